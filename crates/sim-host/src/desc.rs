@@ -1,0 +1,278 @@
+//! Scene descriptions in f64: what a scene file or a built-in scene says, before
+//! anything is converted to the core's fixed-point formats.
+//!
+//! Both the fixed-point renderer (through `convert`) and the f64 reference renderer
+//! (`reference`) start from these types, so they see the same scene.
+
+use std::path::PathBuf;
+
+/// A triangle mesh in f64: positions, one unit normal per vertex, and
+/// counter-clockwise (front-facing) triangles as indices into both arrays.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    /// Vertex positions in model space.
+    pub positions: Vec<[f64; 3]>,
+    /// Unit vertex normals, one per position.
+    pub normals: Vec<[f64; 3]>,
+    /// Triangles, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Where a mesh comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MeshSource {
+    /// UV sphere of radius 1 centred at the origin, normals = positions.
+    Sphere {
+        /// Longitude segments (around the y axis), at least 3.
+        lon: u32,
+        /// Latitude segments (pole to pole), at least 2.
+        lat: u32,
+    },
+    /// Newell's teapot: 32 bicubic Bézier patches, each tessellated into
+    /// `level` x `level` quads.
+    Teapot {
+        /// Subdivisions per patch side, at least 1.
+        level: u32,
+    },
+    /// A procedural robot of boxes, cylinders and spheres (flat faces, sharp edges).
+    Robot,
+    /// A Wavefront OBJ file.
+    Obj {
+        /// Path of the file.
+        path: PathBuf,
+    },
+}
+
+/// One mesh placed in the world.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectDesc {
+    /// The mesh.
+    pub mesh: MeshSource,
+    /// Translation in world units.
+    pub translate: [f64; 3],
+    /// Rotation in degrees about x, y and z; the model matrix is
+    /// `T * Rz * Ry * Rx * S` (x applied first).
+    pub rotate_deg: [f64; 3],
+    /// Uniform scale.
+    pub scale: f64,
+    /// The object's material.
+    pub material: MaterialDesc,
+}
+
+/// Camera projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// `gluPerspective(fovy, width/height, near, far)`.
+    Perspective {
+        /// Vertical field of view in degrees, in (0, 180).
+        fovy_deg: f64,
+        /// Near plane distance, > 0.
+        near: f64,
+        /// Far plane distance, > near.
+        far: f64,
+    },
+    /// `glOrtho(-h*aspect/2, h*aspect/2, -h/2, h/2, near, far)`.
+    Orthographic {
+        /// Height of the view volume in world units.
+        height: f64,
+        /// Near plane distance.
+        near: f64,
+        /// Far plane distance, > near.
+        far: f64,
+    },
+}
+
+/// `gluLookAt` camera plus projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraDesc {
+    /// Eye position.
+    pub eye: [f64; 3],
+    /// Point looked at.
+    pub target: [f64; 3],
+    /// Up direction.
+    pub up: [f64; 3],
+    /// Projection.
+    pub projection: Projection,
+}
+
+/// Light kind; positions and directions are in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// Light at infinity; `direction` points from the surface towards the light
+    /// (OpenGL position with w = 0).
+    Directional {
+        /// Direction towards the light (need not be unit length).
+        direction: [f64; 3],
+    },
+    /// Point light with OpenGL attenuation `1 / (c + l*d + q*d^2)`.
+    Point {
+        /// Position in world space.
+        position: [f64; 3],
+        /// Constant, linear and quadratic attenuation.
+        attenuation: [f64; 3],
+    },
+}
+
+/// An OpenGL fixed-function light. Colours are linear, 0..1 per channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightDesc {
+    /// Directional or point.
+    pub kind: LightKind,
+    /// Ambient colour.
+    pub ambient: [f64; 3],
+    /// Diffuse colour.
+    pub diffuse: [f64; 3],
+    /// Specular colour.
+    pub specular: [f64; 3],
+}
+
+/// An OpenGL fixed-function material. Colours 0..1 per channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialDesc {
+    /// Emission.
+    pub emission: [f64; 3],
+    /// Ambient reflectance.
+    pub ambient: [f64; 3],
+    /// Diffuse reflectance.
+    pub diffuse: [f64; 3],
+    /// Specular reflectance.
+    pub specular: [f64; 3],
+    /// Blinn exponent n, 1..=1000.
+    pub shininess: f64,
+}
+
+impl Default for MaterialDesc {
+    fn default() -> Self {
+        MaterialDesc {
+            emission: [0.0; 3],
+            ambient: [0.2, 0.2, 0.2],
+            diffuse: [0.8, 0.8, 0.8],
+            specular: [0.0; 3],
+            shininess: 1.0,
+        }
+    }
+}
+
+/// Output pixel format by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FormatName {
+    /// RGB 5-6-5, little-endian bytes.
+    Rgb565Le,
+    /// RGB 5-6-5, big-endian bytes (what ST7789/ILI9341 take over SPI).
+    Rgb565Be,
+    /// RGB 8-8-8.
+    Rgb888,
+    /// 8-bit grey, `(77 R + 150 G + 29 B) / 256`.
+    Gray8,
+}
+
+/// Shading mode by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadingName {
+    /// One colour per triangle: its last (provoking) vertex's, as OpenGL does.
+    Flat,
+    /// Vertex colours interpolated linearly in screen space.
+    Gouraud,
+}
+
+/// Span method by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpanName {
+    /// Per-span division of the end values (the idx3d way).
+    Classic,
+    /// Constant per-triangle increment (seed 000 §2.1).
+    Gradient,
+}
+
+/// A whole scene as a scene file or a built-in scene describes it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneDesc {
+    /// Image width in pixels, 1..=4096.
+    pub width: u32,
+    /// Image height in pixels, 1..=4096.
+    pub height: u32,
+    /// Output pixel format.
+    pub format: FormatName,
+    /// Background colour, 8 bits per channel.
+    pub background: [u8; 3],
+    /// Camera.
+    pub camera: CameraDesc,
+    /// Up to 8 lights.
+    pub lights: Vec<LightDesc>,
+    /// Global ambient light (OpenGL `GL_LIGHT_MODEL_AMBIENT`).
+    pub global_ambient: [f64; 3],
+    /// Local viewer (`GL_LIGHT_MODEL_LOCAL_VIEWER`).
+    pub local_viewer: bool,
+    /// Objects.
+    pub objects: Vec<ObjectDesc>,
+    /// Shading mode.
+    pub shading: ShadingName,
+    /// Span method.
+    pub span: SpanName,
+    /// Cull back faces (counter-clockwise triangles are front faces).
+    pub cull_back: bool,
+    /// Use the u16 depth buffer.
+    pub depth_test: bool,
+    /// Reference renderer: perspective-correct instead of screen-affine interpolation.
+    pub perspective_correct: bool,
+}
+
+/// Names of the variants of an enum selectable by name in scene files and on the
+/// command line.
+pub trait Named: Sized + Copy + 'static {
+    /// What the names denote, for error messages ("span method").
+    const WHAT: &'static str;
+    /// Every variant with its name.
+    const ALL: &'static [(Self, &'static str)];
+
+    /// The variant's name.
+    fn name(self) -> &'static str
+    where
+        Self: PartialEq,
+    {
+        Self::ALL
+            .iter()
+            .find(|(v, _)| *v == self)
+            .map(|(_, n)| *n)
+            .unwrap_or("?")
+    }
+
+    /// Parses a name; the error lists the valid names.
+    fn parse(name: &str) -> Result<Self, String> {
+        Self::ALL
+            .iter()
+            .find(|(_, n)| n.eq_ignore_ascii_case(name))
+            .map(|(v, _)| *v)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|(_, n)| *n).collect();
+                format!(
+                    "unknown {} `{}`; expected one of: {}",
+                    Self::WHAT,
+                    name,
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+impl Named for FormatName {
+    const WHAT: &'static str = "pixel format";
+    const ALL: &'static [(Self, &'static str)] = &[
+        (FormatName::Rgb565Le, "rgb565le"),
+        (FormatName::Rgb565Be, "rgb565be"),
+        (FormatName::Rgb888, "rgb888"),
+        (FormatName::Gray8, "gray8"),
+    ];
+}
+
+impl Named for ShadingName {
+    const WHAT: &'static str = "shading mode";
+    const ALL: &'static [(Self, &'static str)] =
+        &[(ShadingName::Flat, "flat"), (ShadingName::Gouraud, "gouraud")];
+}
+
+impl Named for SpanName {
+    const WHAT: &'static str = "span method";
+    const ALL: &'static [(Self, &'static str)] =
+        &[(SpanName::Classic, "classic"), (SpanName::Gradient, "gradient")];
+}
