@@ -1,0 +1,2 @@
+//! fixshade core (work in progress).
+#![no_std]
