@@ -1,2 +1,11 @@
-//! fixshade core (work in progress).
+//! fixshade core.
 #![no_std]
+#![deny(missing_docs, unsafe_code, trivial_numeric_casts)]
+#![deny(clippy::float_arithmetic)]
+
+pub mod fixed;
+pub mod light;
+pub mod math;
+pub mod raster;
+pub mod shade;
+pub mod target;

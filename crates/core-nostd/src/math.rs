@@ -1,0 +1,718 @@
+//! Integer maths: square roots, sine and cosine of binary angles, 4×4 matrices with
+//! `gluLookAt`/`gluPerspective`/`glOrtho` semantics, and the power function of the
+//! specular term.
+//!
+//! Per-frame work (building matrices) uses `Q32_32` entries in `i64` with `i128`
+//! products, so a composed model-view-projection matrix is accurate to about 1e-9;
+//! per-vertex work uses the normalised `i32` forms in [`ClipMatrix`] and
+//! [`Affine3`].
+//!
+//! ```
+//! use fixshade::fixed::Angle;
+//! use fixshade::math::{cos_q30, sin_q30};
+//! assert_eq!(sin_q30(Angle::from_degrees(90)), 1 << 30);
+//! assert_eq!(cos_q30(Angle::from_degrees(180)), -(1 << 30));
+//! let s30 = sin_q30(Angle::from_degrees(30));
+//! assert!((s30 - (1 << 29)).abs() <= 2);
+//! ```
+
+use crate::fixed::{Angle, Q16_16};
+
+/// One in Q32.32.
+pub const ONE_Q32: i64 = 1 << 32;
+/// One in Q2.30.
+pub const ONE_Q30: i32 = 1 << 30;
+
+/// Floor of the square root of a `u128`.
+pub const fn isqrt_u128(n: u128) -> u128 {
+    if n < 2 {
+        return n;
+    }
+    // Newton iteration from a power of two above the root; decreasing, stops at floor.
+    let bits = 128 - n.leading_zeros();
+    let mut x: u128 = 1 << bits.div_ceil(2);
+    loop {
+        let y = (x + n / x) >> 1;
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
+/// Floor of the square root of a `u64`.
+pub const fn isqrt_u64(n: u64) -> u64 {
+    if n < 2 {
+        return n;
+    }
+    let bits = 64 - n.leading_zeros();
+    let mut x: u64 = 1 << bits.div_ceil(2);
+    loop {
+        let y = (x + n / x) >> 1;
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
+/// Q.32 product of two Q.32 values (`i128` intermediate; the result saturates).
+const fn mul_q32(a: i64, b: i64) -> i64 {
+    let p = (a as i128 * b as i128 + (1 << 31)) >> 32;
+    if p > i64::MAX as i128 {
+        i64::MAX
+    } else if p < i64::MIN as i128 {
+        i64::MIN
+    } else {
+        p as i64
+    }
+}
+
+/// Q.32 quotient, rounded to nearest; `b == 0` gives 0.
+const fn div_q32(a: i64, b: i64) -> i64 {
+    if b == 0 {
+        return 0;
+    }
+    let n = (a as i128) << 32;
+    let d = b as i128;
+    let q = if (n >= 0) == (d > 0) {
+        (n + d / 2) / d
+    } else {
+        (n - d / 2) / d
+    };
+    if q > i64::MAX as i128 {
+        i64::MAX
+    } else if q < i64::MIN as i128 {
+        i64::MIN
+    } else {
+        q as i64
+    }
+}
+
+/// 2π in Q.32.
+const TWO_PI_Q32: i64 = 26_986_075_409;
+
+/// Sine and cosine of `t` radians, 0 ≤ t ≤ π/4, in Q.32 (Taylor series to the 13th /
+/// 14th power: truncation error below 1e-13; rounding error a few units of 2⁻³²).
+const fn sin_cos_small(t: i64) -> (i64, i64) {
+    let t2 = mul_q32(t, t);
+    // sin: t - t³/3! + t⁵/5! - …
+    let mut term = t;
+    let mut s = t;
+    let mut k = 1;
+    while k <= 6 {
+        term = mul_q32(term, t2) / ((2 * k) * (2 * k + 1));
+        if k % 2 == 1 {
+            s -= term;
+        } else {
+            s += term;
+        }
+        k += 1;
+    }
+    let mut term = ONE_Q32;
+    let mut c = ONE_Q32;
+    let mut k = 1;
+    while k <= 7 {
+        term = mul_q32(term, t2) / ((2 * k - 1) * (2 * k));
+        if k % 2 == 1 {
+            c -= term;
+        } else {
+            c += term;
+        }
+        k += 1;
+    }
+    (s, c)
+}
+
+/// Sine and cosine of a binary angle in Q32.32 (|error| ≤ about 3·2⁻³²).
+pub const fn sin_cos_q32(a: Angle) -> (i64, i64) {
+    let bits = a.to_turns_bits();
+    let octant = bits >> 29;
+    let mut f = (bits & ((1 << 29) - 1)) as i64;
+    if octant & 1 == 1 {
+        f = (1 << 29) - f;
+    }
+    // t = f / 2^32 turns · 2π, in Q.32: f · 2π_q32 / 2^32.
+    let t = ((f as i128 * TWO_PI_Q32 as i128) >> 32) as i64;
+    let (s, c) = sin_cos_small(t);
+    // Map the octant: angle = octant·45° ± small.
+    let (sin, cos) = match octant {
+        0 => (s, c),
+        1 => (c, s),
+        2 => (c, -s),
+        3 => (s, -c),
+        4 => (-s, -c),
+        5 => (-c, -s),
+        6 => (-c, s),
+        _ => (-s, c),
+    };
+    (sin, cos)
+}
+
+/// Sine in Q2.30.
+pub const fn sin_q30(a: Angle) -> i32 {
+    round_q32_to_q30(sin_cos_q32(a).0)
+}
+
+/// Cosine in Q2.30.
+pub const fn cos_q30(a: Angle) -> i32 {
+    round_q32_to_q30(sin_cos_q32(a).1)
+}
+
+const fn round_q32_to_q30(v: i64) -> i32 {
+    ((v + 2) >> 2) as i32
+}
+
+/// A 4×4 matrix with `Q32_32` entries (`i64`, 32 fraction bits), column-vector
+/// convention as in OpenGL: `m[row][col]`, points transform as `M · p`.
+///
+/// Built once per frame; entries saturate rather than wrap.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Mat4 {
+    /// Entries, `m[row][col]`, Q32.32.
+    pub m: [[i64; 4]; 4],
+}
+
+/// A 3-vector of Q16.16 values.
+pub type Vec3 = [Q16_16; 3];
+
+fn q16_to_q32(v: Q16_16) -> i64 {
+    (v.to_bits() as i64) << 16
+}
+
+impl Mat4 {
+    /// The identity.
+    pub const IDENTITY: Mat4 = Mat4 {
+        m: [
+            [ONE_Q32, 0, 0, 0],
+            [0, ONE_Q32, 0, 0],
+            [0, 0, ONE_Q32, 0],
+            [0, 0, 0, ONE_Q32],
+        ],
+    };
+
+    /// Matrix product `self · o`.
+    pub fn mul(&self, o: &Mat4) -> Mat4 {
+        let mut r = [[0i64; 4]; 4];
+        for (i, row) in r.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
+                let mut acc: i128 = 0;
+                for k in 0..4 {
+                    acc += self.m[i][k] as i128 * o.m[k][j] as i128;
+                }
+                *e = sat_i128_to_i64((acc + (1 << 31)) >> 32);
+            }
+        }
+        Mat4 { m: r }
+    }
+
+    /// Translation by `t` (`glTranslate`).
+    pub fn translate(t: Vec3) -> Mat4 {
+        let mut r = Mat4::IDENTITY;
+        for (i, v) in t.iter().enumerate() {
+            r.m[i][3] = q16_to_q32(*v);
+        }
+        r
+    }
+
+    /// Scale by `s` per axis (`glScale`).
+    pub fn scale(s: Vec3) -> Mat4 {
+        let mut r = Mat4::IDENTITY;
+        for (i, v) in s.iter().enumerate() {
+            r.m[i][i] = q16_to_q32(*v);
+        }
+        r
+    }
+
+    /// Rotation about the x axis (`glRotate(a, 1, 0, 0)`).
+    pub fn rotate_x(a: Angle) -> Mat4 {
+        let (s, c) = sin_cos_q32(a);
+        let mut r = Mat4::IDENTITY;
+        r.m[1][1] = c;
+        r.m[1][2] = -s;
+        r.m[2][1] = s;
+        r.m[2][2] = c;
+        r
+    }
+
+    /// Rotation about the y axis (`glRotate(a, 0, 1, 0)`).
+    pub fn rotate_y(a: Angle) -> Mat4 {
+        let (s, c) = sin_cos_q32(a);
+        let mut r = Mat4::IDENTITY;
+        r.m[0][0] = c;
+        r.m[0][2] = s;
+        r.m[2][0] = -s;
+        r.m[2][2] = c;
+        r
+    }
+
+    /// Rotation about the z axis (`glRotate(a, 0, 0, 1)`).
+    pub fn rotate_z(a: Angle) -> Mat4 {
+        let (s, c) = sin_cos_q32(a);
+        let mut r = Mat4::IDENTITY;
+        r.m[0][0] = c;
+        r.m[0][1] = -s;
+        r.m[1][0] = s;
+        r.m[1][1] = c;
+        r
+    }
+
+    /// The model matrix `T · Rz · Ry · Rx · S` (x rotation applied first).
+    pub fn model(translate: Vec3, rotate: [Angle; 3], scale: Vec3) -> Mat4 {
+        Mat4::translate(translate)
+            .mul(&Mat4::rotate_z(rotate[2]))
+            .mul(&Mat4::rotate_y(rotate[1]))
+            .mul(&Mat4::rotate_x(rotate[0]))
+            .mul(&Mat4::scale(scale))
+    }
+
+    /// `gluLookAt(eye, target, up)`. `None` if `eye == target` or `up` is parallel to
+    /// the view direction.
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Option<Mat4> {
+        let e = eye.map(q16_to_q32);
+        let t = target.map(q16_to_q32);
+        let u = up.map(q16_to_q32);
+        let f = normalize_q32([t[0] - e[0], t[1] - e[1], t[2] - e[2]])?;
+        let s = normalize_q32(cross_q32(f, u))?;
+        let uu = cross_q32(s, f);
+        let mut r = Mat4::IDENTITY;
+        for i in 0..3 {
+            r.m[0][i] = s[i];
+            r.m[1][i] = uu[i];
+            r.m[2][i] = -f[i];
+        }
+        for row in 0..3 {
+            let mut acc: i128 = 0;
+            for (i, ei) in e.iter().enumerate() {
+                acc += r.m[row][i] as i128 * *ei as i128;
+            }
+            r.m[row][3] = sat_i128_to_i64(-((acc + (1 << 31)) >> 32));
+        }
+        Some(r)
+    }
+
+    /// `gluPerspective(fovy, aspect_w / aspect_h, near, far)`. `None` unless
+    /// 0 < fovy < 180°, 0 < near < far and the aspect terms are positive.
+    pub fn perspective(
+        fovy: Angle,
+        aspect_w: u32,
+        aspect_h: u32,
+        near: Q16_16,
+        far: Q16_16,
+    ) -> Option<Mat4> {
+        let half_turn = 1u32 << 31;
+        if fovy.to_turns_bits() == 0 || fovy.to_turns_bits() >= half_turn {
+            return None;
+        }
+        if near.to_bits() <= 0 || far <= near || aspect_w == 0 || aspect_h == 0 {
+            return None;
+        }
+        let (s, c) = sin_cos_q32(fovy.half());
+        let f = div_q32(c, s);
+        let n = q16_to_q32(near);
+        let fa = q16_to_q32(far);
+        let mut r = Mat4 { m: [[0; 4]; 4] };
+        r.m[0][0] = sat_i128_to_i64(f as i128 * aspect_h as i128 / aspect_w as i128);
+        r.m[1][1] = f;
+        r.m[2][2] = div_q32(fa + n, n - fa);
+        r.m[2][3] = div_q32(2 * mul_q32(fa, n), n - fa);
+        r.m[3][2] = -ONE_Q32;
+        Some(r)
+    }
+
+    /// `glOrtho(-h·a/2, h·a/2, -h/2, h/2, near, far)` with `a = aspect_w / aspect_h`.
+    /// `None` unless `height > 0`, `near < far` and the aspect terms are positive.
+    pub fn orthographic(
+        height: Q16_16,
+        aspect_w: u32,
+        aspect_h: u32,
+        near: Q16_16,
+        far: Q16_16,
+    ) -> Option<Mat4> {
+        if height.to_bits() <= 0 || far <= near || aspect_w == 0 || aspect_h == 0 {
+            return None;
+        }
+        let h = q16_to_q32(height);
+        let n = q16_to_q32(near);
+        let fa = q16_to_q32(far);
+        let mut r = Mat4::IDENTITY;
+        // 2 / width with width = h·a: 2·aspect_h / (h·aspect_w).
+        r.m[0][0] = div_q32(2 * ONE_Q32 * aspect_h as i64, h * aspect_w as i64);
+        r.m[1][1] = div_q32(2 * ONE_Q32, h);
+        r.m[2][2] = div_q32(-2 * ONE_Q32, fa - n);
+        r.m[2][3] = div_q32(-(fa + n), fa - n);
+        Some(r)
+    }
+
+    /// Transforms a direction (w = 0) and returns Q32.32 components.
+    pub fn transform_dir(&self, d: Vec3) -> [i64; 3] {
+        let d = d.map(q16_to_q32);
+        let mut r = [0i64; 3];
+        for (i, out) in r.iter_mut().enumerate() {
+            let mut acc: i128 = 0;
+            for (k, dk) in d.iter().enumerate() {
+                acc += self.m[i][k] as i128 * *dk as i128;
+            }
+            *out = sat_i128_to_i64((acc + (1 << 31)) >> 32);
+        }
+        r
+    }
+
+    /// Transforms a point (w = 1) and returns Q32.32 components of x, y, z.
+    pub fn transform_point(&self, p: Vec3) -> [i64; 3] {
+        let d = self.transform_dir(p);
+        [
+            d[0].saturating_add(self.m[0][3]),
+            d[1].saturating_add(self.m[1][3]),
+            d[2].saturating_add(self.m[2][3]),
+        ]
+    }
+}
+
+fn sat_i128_to_i64(v: i128) -> i64 {
+    if v > i64::MAX as i128 {
+        i64::MAX
+    } else if v < i64::MIN as i128 {
+        i64::MIN
+    } else {
+        v as i64
+    }
+}
+
+/// Cross product of Q32.32 vectors (saturating).
+pub fn cross_q32(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
+    [
+        mul_q32(a[1], b[2]) - mul_q32(a[2], b[1]),
+        mul_q32(a[2], b[0]) - mul_q32(a[0], b[2]),
+        mul_q32(a[0], b[1]) - mul_q32(a[1], b[0]),
+    ]
+}
+
+/// Unit vector in Q32.32, `None` for the zero vector. Exact to about 2⁻³² per
+/// component (the length comes from an exact integer square root of the `i128`
+/// sum of squares).
+pub fn normalize_q32(v: [i64; 3]) -> Option<[i64; 3]> {
+    let sq: u128 = v.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
+    if sq == 0 {
+        return None;
+    }
+    let len = isqrt_u128(sq) as i64; // Q.32, since sq is Q.64
+    if len == 0 {
+        return None;
+    }
+    Some(v.map(|c| div_q32(c, len)))
+}
+
+/// A 4×4 matrix scaled by a power of two so that every entry fits an `i32` with
+/// the largest one in [2³⁰, 2³¹): the per-vertex form of a model-view-projection
+/// matrix. Scale is irrelevant to a projective transform (x/w, y/w, z/w are
+/// unchanged), so only the relative precision of about 2⁻³⁰ matters.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct ClipMatrix {
+    /// Entries, `m[row][col]`.
+    pub m: [[i32; 4]; 4],
+}
+
+impl ClipMatrix {
+    /// Normalises `mat`; `None` if every entry is zero.
+    pub fn new(mat: &Mat4) -> Option<ClipMatrix> {
+        let max = mat.m.iter().flatten().map(|v| v.unsigned_abs()).max()?;
+        if max == 0 {
+            return None;
+        }
+        let bits = 64 - max.leading_zeros() as i32; // max < 2^bits
+        let shift = bits - 31; // entries >> shift < 2^31
+        let mut m = [[0i32; 4]; 4];
+        for (r, row) in m.iter_mut().enumerate() {
+            for (c, e) in row.iter_mut().enumerate() {
+                let v = mat.m[r][c] as i128;
+                let s = if shift >= 0 {
+                    (v + ((1i128 << shift) >> 1)) >> shift
+                } else {
+                    v << -shift
+                };
+                *e = s.clamp(-(i32::MAX as i128), i32::MAX as i128) as i32;
+            }
+        }
+        Some(ClipMatrix { m })
+    }
+
+    /// `M · (p, 1)` for a Q16.16 point with |components| < 2¹⁴: each product is below
+    /// 2³¹·2³⁰ = 2⁶¹ and the sum of four below 2⁶³, so the `i64` sums cannot overflow.
+    #[inline]
+    pub fn transform(&self, p: &Vec3) -> [i64; 4] {
+        let (x, y, z) = (p[0].to_bits() as i64, p[1].to_bits() as i64, p[2].to_bits() as i64);
+        let mut r = [0i64; 4];
+        for (i, out) in r.iter_mut().enumerate() {
+            let row = &self.m[i];
+            *out = row[0] as i64 * x + row[1] as i64 * y + row[2] as i64 * z + ((row[3] as i64) << 16);
+        }
+        r
+    }
+}
+
+/// An affine 3-D transform for the lighting stage: a Q16.16 linear part and
+/// translation (eye-space positions), plus a normal matrix (the cofactor matrix of the
+/// linear part, sign-corrected, normalised like [`ClipMatrix`]) for normals.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Affine3 {
+    /// Linear part, Q16.16, `m[row][col]`.
+    pub linear: [[i32; 3]; 3],
+    /// Translation, Q16.16.
+    pub translation: [i32; 3],
+    /// Normal matrix, scaled so its largest entry is in [2³⁰, 2³¹).
+    pub normal: [[i32; 3]; 3],
+}
+
+impl Affine3 {
+    /// The upper 3×4 part of a model-view matrix. `None` if its linear part is
+    /// singular.
+    pub fn new(mat: &Mat4) -> Option<Affine3> {
+        let r = |v: i64| -> i32 {
+            crate::fixed::sat_i64_to_i32((v + (1 << 15)) >> 16)
+        };
+        let mut linear = [[0i32; 3]; 3];
+        let mut translation = [0i32; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                linear[i][j] = r(mat.m[i][j]);
+            }
+            translation[i] = r(mat.m[i][3]);
+        }
+        // Cofactors of the Q32.32 linear part (i128: entries < 2^63 would overflow,
+        // but model-view entries are far below 2^48, so products fit in i128).
+        let a = |i: usize, j: usize| mat.m[i][j] as i128;
+        let mut cof = [[0i128; 3]; 3];
+        for (i, row) in cof.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
+                let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+                let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+                *e = (a(i1, j1) * a(i2, j2) - a(i1, j2) * a(i2, j1)) >> 32;
+            }
+        }
+        let det: i128 = (0..3).map(|j| a(0, j) * cof[0][j]).sum();
+        if det == 0 {
+            return None;
+        }
+        let max = cof.iter().flatten().map(|v| v.unsigned_abs()).max()?;
+        if max == 0 {
+            return None;
+        }
+        let bits = 128 - max.leading_zeros() as i32;
+        let shift = bits - 31;
+        let sign = if det < 0 { -1 } else { 1 };
+        let mut normal = [[0i32; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                let v = cof[i][j] * sign;
+                let s = if shift >= 0 { v >> shift } else { v << -shift };
+                normal[i][j] = s.clamp(-(i32::MAX as i128), i32::MAX as i128) as i32;
+            }
+        }
+        Some(Affine3 {
+            linear,
+            translation,
+            normal,
+        })
+    }
+
+    /// Eye-space position of a Q16.16 point, Q16.16 (saturating). Products are
+    /// i32·i32 < 2⁶², sums of three plus the translation < 2⁶³.
+    #[inline]
+    pub fn point(&self, p: &Vec3) -> [i32; 3] {
+        let mut r = [0i32; 3];
+        for (i, out) in r.iter_mut().enumerate() {
+            let l = &self.linear[i];
+            let acc = l[0] as i64 * p[0].to_bits() as i64
+                + l[1] as i64 * p[1].to_bits() as i64
+                + l[2] as i64 * p[2].to_bits() as i64;
+            *out = crate::fixed::sat_i64_to_i32(((acc + (1 << 15)) >> 16) + self.translation[i] as i64);
+        }
+        r
+    }
+}
+
+/// Normalises an `i64` vector to Q2.30 unit length. `None` for the zero vector.
+/// The components are first shifted so the largest is below 2³¹, then the length is
+/// an exact integer square root of an i64 sum of squares (< 3·2⁶²... bounded by
+/// shifting to below 2³⁰·√(2) per component).
+#[inline]
+pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
+    let max = v[0].unsigned_abs().max(v[1].unsigned_abs()).max(v[2].unsigned_abs());
+    if max == 0 {
+        return None;
+    }
+    // Scale so max is in [2^29, 2^30): squares < 2^60, sum < 2^62.
+    let bits = 64 - max.leading_zeros() as i32;
+    let shift = bits - 30;
+    let s = |c: i64| if shift >= 0 { c >> shift } else { c << -shift };
+    let (x, y, z) = (s(v[0]), s(v[1]), s(v[2]));
+    let sq = (x * x + y * y + z * z) as u64;
+    let len = isqrt_u64(sq) as i64; // ≥ 2^29
+    if len == 0 {
+        return None;
+    }
+    let d = |c: i64| (((c << 30) + if c >= 0 { len / 2 } else { -len / 2 }) / len) as i32;
+    Some([d(x), d(y), d(z)])
+}
+
+/// Dot product of Q2.30 vectors, Q2.30 (products < 2⁶¹, sum < 2⁶³).
+#[inline]
+pub fn dot_q30(a: [i32; 3], b: [i32; 3]) -> i32 {
+    let s = a[0] as i64 * b[0] as i64 + a[1] as i64 * b[1] as i64 + a[2] as i64 * b[2] as i64;
+    crate::fixed::sat_i64_to_i32((s + (1 << 29)) >> 30)
+}
+
+/// `2^(2^-i)` for i = 1..=30 in Q2.30, computed at compile time by repeated exact
+/// integer square roots of 2.
+const EXP2_TABLE: [u64; 30] = {
+    let mut t = [0u64; 30];
+    let mut v: u128 = 2u128 << 60; // 2 in Q.60
+    let mut i = 0;
+    while i < 30 {
+        v = isqrt_u128(v << 60); // sqrt in Q.60
+        t[i] = ((v + (1 << 29)) >> 30) as u64;
+        i += 1;
+    }
+    t
+};
+
+/// log₂ of `c` in Q2.30 (0 < c ≤ 2³⁰, i.e. (0, 1]), result in Q.30 (≤ 0).
+/// Bit-by-bit squaring: 30 exact iterations, error ≤ 2·2⁻³⁰.
+fn log2_q30(c: u32) -> i64 {
+    debug_assert!(c > 0);
+    let k = c.leading_zeros() as i64 - 1; // c << k in [2^30, 2^31)
+    let mut m = (c as u64) << k;
+    let mut y: i64 = 0;
+    for i in 1..=30 {
+        m = (m * m) >> 30; // m in [2^30, 2^32): m² < 2^64
+        if m >= 1 << 31 {
+            m >>= 1;
+            y |= 1 << (30 - i);
+        }
+    }
+    -(k << 30) + y
+}
+
+/// 2^t for t ≤ 0 in Q.30, result Q2.30.
+fn exp2_q30(t: i64) -> u32 {
+    let ip = t >> 30; // floor, ≤ 0
+    let f = (t - (ip << 30)) as u32; // [0, 2^30)
+    if ip < -31 {
+        return 0;
+    }
+    let mut r: u64 = 1 << 30;
+    for (i, e) in EXP2_TABLE.iter().enumerate() {
+        if f & (1 << (29 - i)) != 0 {
+            r = (r * e + (1 << 29)) >> 30; // r < 2^31, e < 2^31: product < 2^62
+        }
+    }
+    // r in [2^30, 2^31); shift by -ip.
+    let s = (-ip) as u32;
+    ((r + ((1u64 << s) >> 1)) >> s) as u32
+}
+
+/// `c^n` for `c` in Q2.30 clamped to [0, 1] and `n` in Q16.16 (n ≥ 0), result Q2.30.
+///
+/// Integer `n` uses exponentiation by squaring (relative error below n·2⁻²⁹);
+/// fractional `n` uses `2^(n·log₂ c)` with the bit-by-bit logarithm and a product
+/// of `2^(2^-i)` constants. `c ≥ 1` gives 1; `c ≤ 0` gives 0 (for n > 0).
+///
+/// ```
+/// use fixshade::math::pow_q30;
+/// use fixshade::fixed::Q16_16;
+/// let half = 1 << 29;
+/// assert_eq!(pow_q30(half, Q16_16::from_int(2)), 1 << 28);
+/// assert_eq!(pow_q30(1 << 30, Q16_16::from_int(1000)), 1 << 30);
+/// ```
+pub fn pow_q30(c: i32, n: Q16_16) -> i32 {
+    let nb = n.to_bits();
+    if nb <= 0 {
+        return ONE_Q30;
+    }
+    if c <= 0 {
+        return 0;
+    }
+    if c >= ONE_Q30 {
+        return ONE_Q30;
+    }
+    if nb & 0xFFFF == 0 {
+        let mut e = (nb >> 16) as u32;
+        let mut base = c as u64;
+        let mut acc: u64 = 1 << 30;
+        while e > 0 {
+            if e & 1 == 1 {
+                acc = (acc * base + (1 << 29)) >> 30;
+            }
+            e >>= 1;
+            if e > 0 {
+                base = (base * base + (1 << 29)) >> 30;
+            }
+        }
+        return acc as i32;
+    }
+    let l = log2_q30(c as u32); // ≥ -30·2^30
+    let t = (l * nb as i64) >> 16; // |l·n| < 2^35 · 2^26 = 2^61
+    exp2_q30(t) as i32
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn sin_cos_match_f64() {
+        let mut worst = 0f64;
+        for k in 0..4096u32 {
+            let bits = k.wrapping_mul(1_048_573).wrapping_add(k * 7);
+            let (s, c) = sin_cos_q32(Angle::from_turns_bits(bits));
+            let a = bits as f64 / 4294967296.0 * 2.0 * PI;
+            worst = worst
+                .max((s as f64 / 4294967296.0 - a.sin()).abs())
+                .max((c as f64 / 4294967296.0 - a.cos()).abs());
+        }
+        assert!(worst < 4.0 / 4294967296.0, "worst {worst}");
+    }
+
+    #[test]
+    fn pow_matches_f64() {
+        for n10 in [10i32, 15, 20, 80, 320, 1000, 2500, 10000] {
+            let n = Q16_16::from_ratio(n10, 10);
+            let nf = n.to_bits() as f64 / 65536.0;
+            for k in 1..200 {
+                let c = ((1i64 << 30) * k / 200) as i32;
+                let cf = c as f64 / (1u64 << 30) as f64;
+                let got = pow_q30(c, n) as f64 / (1u64 << 30) as f64;
+                let want = cf.powf(nf);
+                assert!(
+                    (got - want).abs() < 2e-6,
+                    "c={cf} n={nf} got {got} want {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn normalize_q30_is_unit() {
+        for v in [[3i64, 4, 0], [1, 1, 1], [-7, 0, 1 << 40], [0, 0, -1]] {
+            let n = normalize_to_q30(v).unwrap();
+            let l: f64 = n.iter().map(|c| (*c as f64 / (1 << 30) as f64).powi(2)).sum();
+            assert!((l - 1.0).abs() < 1e-8);
+        }
+        assert_eq!(normalize_to_q30([0, 0, 0]), None);
+    }
+
+    #[test]
+    fn isqrt_is_floor() {
+        for n in [0u128, 1, 2, 3, 4, 15, 16, 17, 1 << 100, (1 << 100) - 1, u64::MAX as u128] {
+            let r = isqrt_u128(n);
+            assert!(r * r <= n && (r + 1) * (r + 1) > n);
+        }
+        for n in [0u64, 1, 5, 1 << 62, u64::MAX] {
+            let r = isqrt_u64(n) as u128;
+            assert!(r * r <= n as u128 && (r + 1) * (r + 1) > n as u128);
+        }
+    }
+}

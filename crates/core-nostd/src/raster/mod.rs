@@ -1,0 +1,232 @@
+//! Rasterization: triangle setup, edge walking, span filling.
+//!
+//! Contract: input is a triangle of [`ScreenVertex`]es inside the guard band
+//! (|x|, |y| < [`GUARD`] in Q12.4) with colours in the target's channel units; output
+//! is a sequence of [`span::Span`]s, each handed to the chosen [`span::SpanMethod`]
+//! together with the target row it belongs to. Coverage follows the top-left rule
+//! with pixel centres at +0.5 (see [`edge`]), so triangles that share an edge cover
+//! each pixel along it exactly once.
+//!
+//! ```
+//! use fixshade::raster::{draw_triangle, ScreenVertex};
+//! use fixshade::raster::span::{Gradient, NoDepth};
+//! use fixshade::shade::Gouraud;
+//! use fixshade::target::{Framebuffer, Gray8};
+//!
+//! let mut px = [0u8; 8 * 4];
+//! let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 8, 4).unwrap();
+//! let white = [255 << 16; 3];
+//! let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: white };
+//! // A right triangle with legs of 4 pixels along the top-left corner.
+//! draw_triangle::<Gray8, _, Gradient, NoDepth, Gouraud>(&mut fb, [v(0, 0), v(0, 4), v(4, 0)]);
+//! let rows: Vec<String> = px
+//!     .chunks(8)
+//!     .map(|r| r.iter().map(|p| if *p > 0 { '#' } else { '.' }).collect())
+//!     .collect();
+//! // Centres exactly on the hypotenuse (a right edge) are not covered.
+//! assert_eq!(rows, ["###.....", "##......", "#.......", "........"]);
+//! ```
+
+pub mod edge;
+pub mod setup;
+pub mod span;
+
+use edge::{first_row, EdgeStepper};
+use setup::{Setup, ATTRS};
+use span::{DepthMode, EdgeValues, Span, SpanMethod};
+
+use crate::shade::Shading;
+use crate::target::{PixelFormat, Target};
+
+/// Subpixel bits of screen coordinates (Q12.4).
+pub const SUBPIXEL_BITS: u32 = 4;
+
+/// Guard band: screen coordinates must satisfy |x|, |y| < `GUARD` (Q12.4), i.e. lie
+/// within ±4096 pixels of the origin. Anything inside is rasterized without clipping.
+pub const GUARD: i32 = 4096 << SUBPIXEL_BITS;
+
+/// A vertex in screen space.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct ScreenVertex {
+    /// x in Q12.4 (1/16 pixel), the left edge of the frame at 0.
+    pub x: i32,
+    /// y in Q12.4, the top edge of the frame at 0, y down.
+    pub y: i32,
+    /// Depth in Q16.16: `floor(d · 65534 · 2¹⁶)` for d in [0, 1], near = 0.
+    pub z: u32,
+    /// Colour channels in the target format's channel units, Q.16 (R, G, B; grey
+    /// formats use channel 0).
+    pub c: [i32; 3],
+}
+
+/// Attribute values along an edge for methods that want edge values: stepped with
+/// increments in Q.16 of an attribute unit (`i64`).
+struct EdgeAttrs {
+    val: [i64; ATTRS],
+    inc: [i64; ATTRS],
+}
+
+fn vattrs(v: &ScreenVertex) -> [i64; ATTRS] {
+    [v.c[0] as i64, v.c[1] as i64, v.c[2] as i64, v.z as i64]
+}
+
+impl EdgeAttrs {
+    /// Values at the edge crossing of row `y` for the edge `t → b`, 16 extra
+    /// fraction bits. |Δa| ≤ 2³², so `Δa·16 << 16` < 2⁵³ and `Δa·(yc − t.y) << 16`
+    /// < 2⁶⁶ would not fit: the product is taken in i128.
+    fn new(t: &ScreenVertex, b: &ScreenVertex, y: i32) -> EdgeAttrs {
+        let dy = (b.y - t.y) as i128;
+        let off = (16 * y + 8 - t.y) as i128;
+        let (at, ab) = (vattrs(t), vattrs(b));
+        let mut val = [0i64; ATTRS];
+        let mut inc = [0i64; ATTRS];
+        for k in 0..ATTRS {
+            let da = (ab[k] - at[k]) as i128;
+            val[k] = (((at[k] as i128 + setup::ROUND_BIAS as i128) << 16) + ((da * off) << 16) / dy) as i64;
+            inc[k] = (((da * 16) << 16) / dy) as i64;
+        }
+        EdgeAttrs { val, inc }
+    }
+
+    #[inline]
+    fn step(&mut self) {
+        for k in 0..ATTRS {
+            self.val[k] += self.inc[k];
+        }
+    }
+
+    #[inline]
+    fn get(&self) -> [i64; ATTRS] {
+        self.val.map(|v| v >> 16)
+    }
+}
+
+/// Exact edge crossing in pixel-centre coordinates, Q.16: `q − r/d`.
+#[inline]
+fn crossing(e: &EdgeStepper) -> i64 {
+    ((e.q as i64) << 16) - (((e.r as i64) << 16) / e.d as i64)
+}
+
+/// Rasterizes one triangle into `target`. Returns the number of pixels covered
+/// (before the depth test) inside the target. Zero-area triangles draw nothing.
+///
+/// Vertices must lie inside the guard band; vertices outside are rejected (nothing is
+/// drawn), never wrapped.
+pub fn draw_triangle<P, T, S, Z, Sh>(target: &mut T, v: [ScreenVertex; 3]) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    S: SpanMethod,
+    Z: DepthMode,
+    Sh: Shading,
+{
+    if v.iter().any(|p| p.x.abs() >= GUARD || p.y.abs() >= GUARD) {
+        return 0;
+    }
+    let Some(s) = setup::setup(v) else {
+        return 0;
+    };
+    draw_setup::<P, T, S, Z, Sh>(target, &s)
+}
+
+/// Rasterizes a triangle that has been set up.
+pub fn draw_setup<P, T, S, Z, Sh>(target: &mut T, s: &Setup) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    S: SpanMethod,
+    Z: DepthMode,
+    Sh: Shading,
+{
+    if Z::TEST && !target.has_depth() {
+        return draw_setup::<P, T, S, span::NoDepth, Sh>(target, s);
+    }
+    let rows = target.rows();
+    let [t, m, b] = s.v;
+    let y_top = first_row(t.y).max(rows.start);
+    let y_mid = first_row(m.y);
+    let y_bot = first_row(b.y).min(rows.end);
+    let mut n = 0;
+    n += walk::<P, T, S, Z, Sh>(target, s, (&t, &b), (&t, &m), y_top, y_mid.min(y_bot));
+    n += walk::<P, T, S, Z, Sh>(target, s, (&t, &b), (&m, &b), y_mid.max(y_top), y_bot);
+    n
+}
+
+/// Walks rows `[ys, ye)` between the long edge and one short edge.
+#[inline(always)]
+fn walk<P, T, S, Z, Sh>(
+    target: &mut T,
+    s: &Setup,
+    long: (&ScreenVertex, &ScreenVertex),
+    short: (&ScreenVertex, &ScreenVertex),
+    ys: i32,
+    ye: i32,
+) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    S: SpanMethod,
+    Z: DepthMode,
+    Sh: Shading,
+{
+    if ys >= ye {
+        return 0;
+    }
+    // Non-empty rows imply dy > 0 on both edges (rows lie between their end rows).
+    let el = EdgeStepper::new((long.0.x, long.0.y), (long.1.x, long.1.y), ys);
+    let es = EdgeStepper::new((short.0.x, short.0.y), (short.1.x, short.1.y), ys);
+    let ((mut left, lv), (mut right, rv)) = if s.mid_left {
+        ((es, short), (el, long))
+    } else {
+        ((el, long), (es, short))
+    };
+    let (mut la, mut ra) = if S::EDGE_VALUES {
+        (
+            Some(EdgeAttrs::new(lv.0, lv.1, ys)),
+            Some(EdgeAttrs::new(rv.0, rv.1, ys)),
+        )
+    } else {
+        (None, None)
+    };
+    let width = target.width() as i32;
+    let mut vl = s.at(left.q, ys);
+    // Lattice increments for a row step of the left edge: one row down plus `a`
+    // (or `a + 1` on a diagonal step) pixels across. Wrapping: exact modulo 2^32.
+    let inc_a: [i32; ATTRS] =
+        core::array::from_fn(|k| s.gy[k].wrapping_add(left.a.wrapping_mul(s.gx[k])));
+    let inc_b: [i32; ATTRS] = core::array::from_fn(|k| inc_a[k].wrapping_add(s.gx[k]));
+    let mut covered = 0u32;
+    for y in ys..ye {
+        let x0 = left.q.max(0);
+        let x1 = right.q.min(width);
+        if x0 < x1 {
+            let skip = x0.wrapping_sub(left.q);
+            let v = core::array::from_fn(|k| vl[k].wrapping_add(skip.wrapping_mul(s.gx[k])));
+            let edges = match (&la, &ra) {
+                (Some(l), Some(r)) => EdgeValues {
+                    xl: crossing(&left),
+                    xr: crossing(&right),
+                    il: l.get(),
+                    ir: r.get(),
+                },
+                _ => EdgeValues::default(),
+            };
+            let span = Span { y, x0, x1, v, edges };
+            let (crow, drow) = target.row(y);
+            let (a, b) = (x0 as usize, x1 as usize);
+            let depth: &mut [u16] = if Z::TEST { &mut drow[a..b] } else { &mut [] };
+            S::fill::<P, Z, Sh>(&mut crow[a..b], depth, &span, s);
+            covered += (x1 - x0) as u32;
+        }
+        let inc = if left.step() { &inc_b } else { &inc_a };
+        for k in 0..ATTRS {
+            vl[k] = vl[k].wrapping_add(inc[k]);
+        }
+        right.step();
+        if let (Some(l), Some(r)) = (&mut la, &mut ra) {
+            l.step();
+            r.step();
+        }
+    }
+    covered
+}

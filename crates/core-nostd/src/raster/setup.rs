@@ -1,0 +1,118 @@
+//! Triangle setup: sort the vertices, take one reciprocal of the determinant, and
+//! derive the constant per-triangle increments of every attribute (seed 000 §2.1,
+//! DESIGN.md method 1).
+//!
+//! With `dx1 = x1 − x0`, `dy1 = y1 − y0`, … (Q12.4) and `det = dx1·dy2 − dx2·dy1`,
+//! an attribute `a` changes per pixel by
+//! `Gx = 16·(Δa1·dy2 − Δa2·dy1) / det` along a row and `Gy = 16·(Δa2·dx1 − Δa1·dx2) / det`
+//! down a column: the seed's `dI/dx`, the same on every scanline.
+//!
+//! Bounds: |dx|, |dy| < 2¹⁷ (guard band), so `det` < 2³⁵; |Δa| ≤ 2³² (depth), so each
+//! numerator is below 2⁵⁴ and fits `i64`. The quotient uses one reciprocal
+//! `inv = ⌊2⁶² / |det|⌋` and an `i128` product; its error is at most
+//! `|num|/2⁶² + ½ ≤ 0.51` of the attribute's last bit.
+//!
+//! Every attribute value the rasterizer produces lies on the lattice
+//! `V(x, y) = A + (x − xa)·Gx + (y − ya)·Gy` (wrapping `i32`) anchored at the pixel
+//! `(xa, ya)` that holds the top vertex's first row. The anchor value `A` is the
+//! exact plane value there to within one unit plus the rounding bias. Against the
+//! exact plane the lattice is off by at most `0.51·(|x − xa| + |y − ya|) + 1` units,
+//! i.e. below 4200 units (0.065 of an output step) anywhere inside a triangle of the
+//! 4095-pixel range: the interpolated colour is within 0.5 + 0.065 < 1 output step
+//! of the exact value (the bound the accuracy tests check).
+
+use super::edge::first_row;
+use super::ScreenVertex;
+
+/// Number of interpolated attributes: three colour channels and depth.
+pub const ATTRS: usize = 4;
+
+/// Rounding bias added to the anchor so that `value >> 16` rounds to nearest.
+pub const ROUND_BIAS: i32 = 1 << 15;
+
+/// A triangle ready for the edge walker.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Setup {
+    /// Vertices sorted by y (then x): top, middle, bottom.
+    pub v: [ScreenVertex; 3],
+    /// True if the middle vertex lies left of the long edge top→bottom.
+    pub mid_left: bool,
+    /// Per-pixel increments along x (colour channels in Q.16 output units, depth Q16.16).
+    pub gx: [i32; ATTRS],
+    /// Per-row increments along y.
+    pub gy: [i32; ATTRS],
+    /// Lattice anchor pixel.
+    pub anchor: (i32, i32),
+    /// Attribute values at the anchor pixel centre, rounding bias included.
+    pub a: [i32; ATTRS],
+}
+
+impl Setup {
+    /// Attribute values at pixel `(x, y)` of the lattice (wrapping arithmetic: the
+    /// result is exact modulo 2³², and the true value at a covered pixel fits `i32`,
+    /// so it is exact there).
+    #[inline]
+    pub fn at(&self, x: i32, y: i32) -> [i32; ATTRS] {
+        let dx = x.wrapping_sub(self.anchor.0);
+        let dy = y.wrapping_sub(self.anchor.1);
+        core::array::from_fn(|k| {
+            self.a[k]
+                .wrapping_add(dx.wrapping_mul(self.gx[k]))
+                .wrapping_add(dy.wrapping_mul(self.gy[k]))
+        })
+    }
+}
+
+fn attrs(v: &ScreenVertex) -> [i64; ATTRS] {
+    [v.c[0] as i64, v.c[1] as i64, v.c[2] as i64, v.z as i64]
+}
+
+/// Sets up a triangle. Returns `None` for a zero-area triangle. Coordinates must lie
+/// in the guard band (|x|, |y| < 2¹⁶); the clip stage guarantees it.
+///
+/// An increment is kept modulo 2³² (`i32` wrapping): a sliver may change an attribute
+/// by more than 2³¹ units per pixel, but the lattice arithmetic is exact modulo 2³²
+/// and the true value at every covered pixel fits, so the result there is still exact
+/// to the bound above.
+pub fn setup(mut v: [ScreenVertex; 3]) -> Option<Setup> {
+    v.sort_unstable_by(|a, b| (a.y, a.x).cmp(&(b.y, b.x)));
+    let (dx1, dy1) = ((v[1].x - v[0].x) as i64, (v[1].y - v[0].y) as i64);
+    let (dx2, dy2) = ((v[2].x - v[0].x) as i64, (v[2].y - v[0].y) as i64);
+    let det = dx1 * dy2 - dx2 * dy1;
+    if det == 0 {
+        return None;
+    }
+    let inv = (1i128 << 62) / det.unsigned_abs() as i128;
+    let sign: i128 = if det < 0 { -1 } else { 1 };
+    // |num| < 2^54 and inv ≤ 2^62: the i128 product is below 2^116; the rounded
+    // quotient is below 2^55 and fits i64.
+    let quot = |num: i64| -> i64 { ((num as i128 * inv * sign + (1 << 61)) >> 62) as i64 };
+    let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
+    let mut gx = [0i64; ATTRS];
+    let mut gy = [0i64; ATTRS];
+    for k in 0..ATTRS {
+        let (d1, d2) = (a1[k] - a0[k], a2[k] - a0[k]);
+        if d1 != 0 || d2 != 0 {
+            gx[k] = quot(16 * (d1 * dy2 - d2 * dy1));
+            gy[k] = quot(16 * (d2 * dx1 - d1 * dx2));
+        }
+    }
+    let anchor = (first_row(v[0].x), first_row(v[0].y));
+    // Offsets of the anchor centre from the top vertex, in [0, 16) subpixels.
+    let ox = (16 * anchor.0 + 8 - v[0].x) as i64;
+    let oy = (16 * anchor.1 + 8 - v[0].y) as i64;
+    // ox, oy < 16 and |g| < 2^55: the sum is below 2^60.
+    let a = core::array::from_fn(|k| {
+        let off = (ox * gx[k] + oy * gy[k] + 8) >> 4;
+        (a0[k] + off + ROUND_BIAS as i64) as i32 // modulo 2^32 by design
+    });
+    Some(Setup {
+        // y points down: the middle vertex is left of top→bottom when det < 0.
+        mid_left: det < 0,
+        v,
+        gx: gx.map(|g| g as i32), // modulo 2^32 by design
+        gy: gy.map(|g| g as i32),
+        anchor,
+        a,
+    })
+}

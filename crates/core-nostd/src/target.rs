@@ -1,0 +1,370 @@
+//! Targets and pixel formats: where spans end up.
+//!
+//! A [`Target`] hands the rasterizer one row at a time: the colour row and, if it has
+//! one, the u16 depth row. [`Framebuffer`] borrows a whole frame; [`Strip`] borrows
+//! the rows `[y0, y0 + h)` of a taller frame so a display without a framebuffer can
+//! be fed band by band. Rendering a frame as strips gives the same bytes as
+//! rendering it whole (the rasterizer's integer state at any row does not depend on
+//! where it started; see `raster`).
+//!
+//! Pixel formats are types ([`Rgb565Le`], [`Rgb565Be`], [`Rgb888`], [`Gray8`]); the
+//! interpolated channels arrive already scaled to the format's channel range.
+//!
+//! ```
+//! use fixshade::target::{Framebuffer, PixelFormat, Rgb565Be, Target};
+//! let mut color = [0u16; 4 * 3];
+//! let mut depth = [0xFFFFu16; 4 * 3];
+//! let fb = Framebuffer::<Rgb565Be>::new(&mut color, Some(&mut depth), 4, 3).unwrap();
+//! assert_eq!((fb.width(), fb.frame_height(), fb.rows()), (4, 3, 0..3));
+//! // Big-endian bytes in memory whatever the CPU: red is F8 00.
+//! assert_eq!(Rgb565Be::pack(31, 0, 0).to_ne_bytes(), [0xF8, 0x00]);
+//! ```
+
+use core::ops::Range;
+
+/// A pixel format: how channel integers become stored pixels.
+pub trait PixelFormat {
+    /// One stored pixel.
+    type Raw: Copy + Default + PartialEq + core::fmt::Debug;
+    /// Largest integer of each channel (R, G, B); grey formats use the first only.
+    const MAX: [u32; 3];
+    /// True for one-channel formats (only channel 0 is interpolated).
+    const GRAY: bool = false;
+    /// Bytes per stored pixel.
+    const BYTES: usize;
+    /// Name used by the CLI and scene files.
+    const NAME: &'static str;
+    /// Packs channel integers (each `0..=MAX[i]`) into a pixel.
+    fn pack(r: u32, g: u32, b: u32) -> Self::Raw;
+    /// Channel integers of a stored pixel (the inverse of `pack`).
+    fn unpack(p: Self::Raw) -> [u32; 3];
+    /// Stores `v` at `dst`. Formats that count writes (tests) override this.
+    #[inline(always)]
+    fn store(dst: &mut Self::Raw, v: Self::Raw) {
+        *dst = v;
+    }
+    /// Appends the pixel's bytes, in memory order, to `out` (host output).
+    fn bytes(p: Self::Raw) -> [u8; 3];
+}
+
+/// RGB 5-6-5 whose bytes in memory are little-endian on any CPU.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Rgb565Le;
+/// RGB 5-6-5 whose bytes in memory are big-endian on any CPU (the order ST7789 and
+/// ILI9341 controllers take over SPI).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Rgb565Be;
+/// RGB 8-8-8, three bytes R, G, B.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Rgb888;
+/// 8-bit grey: `(77 R + 150 G + 29 B) / 256` of the lit colour.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Gray8;
+
+#[inline(always)]
+fn rgb565(r: u32, g: u32, b: u32) -> u16 {
+    ((r << 11) | (g << 5) | b) as u16
+}
+
+#[inline(always)]
+fn un565(v: u16) -> [u32; 3] {
+    let v = v as u32;
+    [v >> 11, (v >> 5) & 63, v & 31]
+}
+
+impl PixelFormat for Rgb565Le {
+    type Raw = u16;
+    const MAX: [u32; 3] = [31, 63, 31];
+    const BYTES: usize = 2;
+    const NAME: &'static str = "rgb565le";
+    #[inline(always)]
+    fn pack(r: u32, g: u32, b: u32) -> u16 {
+        rgb565(r, g, b).to_le()
+    }
+    fn unpack(p: u16) -> [u32; 3] {
+        un565(u16::from_le(p))
+    }
+    fn bytes(p: u16) -> [u8; 3] {
+        let b = p.to_ne_bytes();
+        [b[0], b[1], 0]
+    }
+}
+
+impl PixelFormat for Rgb565Be {
+    type Raw = u16;
+    const MAX: [u32; 3] = [31, 63, 31];
+    const BYTES: usize = 2;
+    const NAME: &'static str = "rgb565be";
+    #[inline(always)]
+    fn pack(r: u32, g: u32, b: u32) -> u16 {
+        rgb565(r, g, b).to_be()
+    }
+    fn unpack(p: u16) -> [u32; 3] {
+        un565(u16::from_be(p))
+    }
+    fn bytes(p: u16) -> [u8; 3] {
+        let b = p.to_ne_bytes();
+        [b[0], b[1], 0]
+    }
+}
+
+impl PixelFormat for Rgb888 {
+    type Raw = [u8; 3];
+    const MAX: [u32; 3] = [255, 255, 255];
+    const BYTES: usize = 3;
+    const NAME: &'static str = "rgb888";
+    #[inline(always)]
+    fn pack(r: u32, g: u32, b: u32) -> [u8; 3] {
+        [r as u8, g as u8, b as u8]
+    }
+    fn unpack(p: [u8; 3]) -> [u32; 3] {
+        [p[0] as u32, p[1] as u32, p[2] as u32]
+    }
+    fn bytes(p: [u8; 3]) -> [u8; 3] {
+        p
+    }
+}
+
+impl PixelFormat for Gray8 {
+    type Raw = u8;
+    const MAX: [u32; 3] = [255, 255, 255];
+    const GRAY: bool = true;
+    const BYTES: usize = 1;
+    const NAME: &'static str = "gray8";
+    #[inline(always)]
+    fn pack(g: u32, _: u32, _: u32) -> u8 {
+        g as u8
+    }
+    fn unpack(p: u8) -> [u32; 3] {
+        [p as u32; 3]
+    }
+    fn bytes(p: u8) -> [u8; 3] {
+        [p, 0, 0]
+    }
+}
+
+/// Errors building a target.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum TargetError {
+    /// Width or height is zero or above 4096.
+    BadSize,
+    /// The colour buffer holds fewer pixels than the declared size.
+    ColorBufferTooSmall,
+    /// The depth buffer holds fewer pixels than the colour buffer needs.
+    DepthBufferTooSmall,
+    /// The strip's rows do not lie inside the frame.
+    StripOutsideFrame,
+}
+
+impl core::fmt::Display for TargetError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            TargetError::BadSize => "width and height must be 1..=4096",
+            TargetError::ColorBufferTooSmall => "colour buffer is smaller than width x height",
+            TargetError::DepthBufferTooSmall => "depth buffer is smaller than width x height",
+            TargetError::StripOutsideFrame => "strip rows lie outside the frame",
+        })
+    }
+}
+
+/// Largest frame side in pixels (the 12-bit screen coordinate range).
+pub const MAX_SIDE: u32 = 4096;
+
+/// Where the rasterizer writes: rows of a frame of `width` × `frame_height` pixels,
+/// of which the target holds `rows()`.
+pub trait Target<P: PixelFormat> {
+    /// Frame width in pixels.
+    fn width(&self) -> u32;
+    /// Height of the whole frame (for the projection's aspect and viewport).
+    fn frame_height(&self) -> u32;
+    /// The frame rows this target holds.
+    fn rows(&self) -> Range<i32>;
+    /// True if the target has a depth buffer.
+    fn has_depth(&self) -> bool;
+    /// Colour row `y` (frame coordinates, inside `rows()`) and its depth row (empty
+    /// if there is no depth buffer).
+    fn row(&mut self, y: i32) -> (&mut [P::Raw], &mut [u16]);
+}
+
+/// A whole frame in caller-owned buffers.
+pub struct Framebuffer<'a, P: PixelFormat> {
+    strip: Strip<'a, P>,
+}
+
+impl<'a, P: PixelFormat> Framebuffer<'a, P> {
+    /// Borrows `color` (at least `width·height` pixels, row-major) and an optional
+    /// depth buffer of the same size.
+    pub fn new(
+        color: &'a mut [P::Raw],
+        depth: Option<&'a mut [u16]>,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, TargetError> {
+        Ok(Framebuffer {
+            strip: Strip::new(color, depth, width, height, 0, height)?,
+        })
+    }
+
+    /// Fills colour with `c` and depth with the far value 0xFFFF.
+    pub fn clear(&mut self, c: P::Raw) {
+        self.strip.clear(c)
+    }
+
+    /// The colour buffer.
+    pub fn color(&self) -> &[P::Raw] {
+        self.strip.color()
+    }
+}
+
+impl<P: PixelFormat> Target<P> for Framebuffer<'_, P> {
+    fn width(&self) -> u32 {
+        self.strip.width()
+    }
+    fn frame_height(&self) -> u32 {
+        self.strip.frame_height()
+    }
+    fn rows(&self) -> Range<i32> {
+        self.strip.rows()
+    }
+    fn has_depth(&self) -> bool {
+        self.strip.has_depth()
+    }
+    #[inline]
+    fn row(&mut self, y: i32) -> (&mut [P::Raw], &mut [u16]) {
+        self.strip.row(y)
+    }
+}
+
+/// Rows `[y0, y0 + h)` of a `width` × `frame_height` frame, in caller-owned buffers of
+/// `width·h` pixels.
+pub struct Strip<'a, P: PixelFormat> {
+    color: &'a mut [P::Raw],
+    depth: Option<&'a mut [u16]>,
+    width: u32,
+    frame_height: u32,
+    y0: u32,
+    h: u32,
+}
+
+impl<'a, P: PixelFormat> Strip<'a, P> {
+    /// Borrows buffers for rows `[y0, y0 + h)` of a frame `width` × `frame_height`.
+    pub fn new(
+        color: &'a mut [P::Raw],
+        depth: Option<&'a mut [u16]>,
+        width: u32,
+        frame_height: u32,
+        y0: u32,
+        h: u32,
+    ) -> Result<Self, TargetError> {
+        if width == 0 || width > MAX_SIDE || frame_height == 0 || frame_height > MAX_SIDE {
+            return Err(TargetError::BadSize);
+        }
+        if h == 0 || y0.checked_add(h).is_none_or(|e| e > frame_height) {
+            return Err(TargetError::StripOutsideFrame);
+        }
+        let n = width as usize * h as usize;
+        if color.len() < n {
+            return Err(TargetError::ColorBufferTooSmall);
+        }
+        if depth.as_ref().is_some_and(|d| d.len() < n) {
+            return Err(TargetError::DepthBufferTooSmall);
+        }
+        Ok(Strip {
+            color,
+            depth,
+            width,
+            frame_height,
+            y0,
+            h,
+        })
+    }
+
+    /// Moves the strip to start at frame row `y0` (same height, same buffers).
+    pub fn set_y0(&mut self, y0: u32) -> Result<(), TargetError> {
+        if y0.checked_add(self.h).is_none_or(|e| e > self.frame_height) {
+            return Err(TargetError::StripOutsideFrame);
+        }
+        self.y0 = y0;
+        Ok(())
+    }
+
+    /// Fills colour with `c` and depth with 0xFFFF.
+    pub fn clear(&mut self, c: P::Raw) {
+        let n = self.width as usize * self.h as usize;
+        self.color[..n].fill(c);
+        if let Some(d) = self.depth.as_deref_mut() {
+            d[..n].fill(0xFFFF);
+        }
+    }
+
+    /// The strip's colour pixels, row-major.
+    pub fn color(&self) -> &[P::Raw] {
+        &self.color[..self.width as usize * self.h as usize]
+    }
+}
+
+impl<P: PixelFormat> Target<P> for Strip<'_, P> {
+    fn width(&self) -> u32 {
+        self.width
+    }
+    fn frame_height(&self) -> u32 {
+        self.frame_height
+    }
+    fn rows(&self) -> Range<i32> {
+        self.y0 as i32..(self.y0 + self.h) as i32
+    }
+    fn has_depth(&self) -> bool {
+        self.depth.is_some()
+    }
+    #[inline]
+    fn row(&mut self, y: i32) -> (&mut [P::Raw], &mut [u16]) {
+        let w = self.width as usize;
+        // The rasterizer only asks for rows inside `rows()`; clamp anyway so a
+        // wrong row can never index outside the buffers.
+        let r = (y - self.y0 as i32).clamp(0, self.h as i32 - 1) as usize;
+        let color = &mut self.color[r * w..(r + 1) * w];
+        let depth = match self.depth.as_deref_mut() {
+            Some(d) => &mut d[r * w..(r + 1) * w],
+            None => &mut [],
+        };
+        (color, depth)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_are_checked() {
+        let mut c = [0u16; 10];
+        assert_eq!(
+            Framebuffer::<Rgb565Le>::new(&mut c, None, 4, 3).err(),
+            Some(TargetError::ColorBufferTooSmall)
+        );
+        let mut c = [0u16; 12];
+        let mut d = [0u16; 11];
+        assert_eq!(
+            Framebuffer::<Rgb565Le>::new(&mut c, Some(&mut d), 4, 3).err(),
+            Some(TargetError::DepthBufferTooSmall)
+        );
+        assert_eq!(
+            Framebuffer::<Rgb565Le>::new(&mut c, None, 0, 3).err(),
+            Some(TargetError::BadSize)
+        );
+        assert_eq!(
+            Strip::<Rgb565Le>::new(&mut c, None, 4, 3, 2, 2).err(),
+            Some(TargetError::StripOutsideFrame)
+        );
+    }
+
+    #[test]
+    fn rgb565_byte_orders() {
+        let p = Rgb565Le::pack(31, 0, 1);
+        assert_eq!(p.to_ne_bytes(), [0x01, 0xF8]);
+        assert_eq!(Rgb565Le::unpack(p), [31, 0, 1]);
+        let p = Rgb565Be::pack(31, 0, 1);
+        assert_eq!(p.to_ne_bytes(), [0xF8, 0x01]);
+        assert_eq!(Rgb565Be::unpack(p), [31, 0, 1]);
+    }
+}
