@@ -1,0 +1,185 @@
+//! Clip & cull: homogeneous clipping against the near and far planes and the guard
+//! band, and back-face culling.
+//!
+//! Most triangles never come here: a triangle whose three vertices project inside the
+//! guard band (±4096 pixels) and the depth range is rasterized directly. The rest are
+//! clipped as polygons (Sutherland–Hodgman) in clip space against six planes: near
+//! (`z ≥ −w`), far (`z ≤ w`), and the four guard-band planes pulled in by one pixel so
+//! the projected, rounded vertices stay inside. Colours are interpolated linearly in
+//! the clip parameter, as OpenGL does.
+//!
+//! Bounds: the three vertices are shifted together so every |coordinate| < 2⁴⁰
+//! (relative precision 2⁻³⁹); plane distances have coefficients below 2¹⁶ and stay
+//! below 2⁵⁸, and the interpolation products `(b − a)·d` below 2⁹⁹ fit `i128`.
+
+use crate::geometry::Viewport;
+use crate::raster::GUARD;
+
+/// A polygon vertex: clip coordinates and colour (target units, Q.16).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct ClipVertex {
+    /// Homogeneous coordinates x, y, z, w.
+    pub pos: [i64; 4],
+    /// Colour channels.
+    pub c: [i32; 3],
+}
+
+/// Largest number of vertices a triangle clipped by six planes can have.
+pub const MAX_POLY: usize = 9;
+
+/// A clipped convex polygon.
+#[derive(Copy, Clone, Debug)]
+pub struct Polygon {
+    /// Vertices; the first `len` are valid.
+    pub v: [ClipVertex; MAX_POLY],
+    /// Number of vertices.
+    pub len: usize,
+}
+
+/// Signed distance to plane `k` (≥ 0 inside) for the viewport's guard band.
+#[inline]
+fn distance(k: usize, p: &[i64; 4], vp: &Viewport) -> i128 {
+    let [x, y, z, w] = p.map(|v| v as i128);
+    let g = (GUARD - 16) as i128;
+    let sw = 8 * vp.width as i128;
+    let sh = 8 * vp.height as i128;
+    match k {
+        0 => z + w,
+        1 => w - z,
+        // 8W(x + w)/w > −g and < g; 8H(w − y)/w likewise.
+        2 => sw * (x + w) + g * w,
+        3 => g * w - sw * (x + w),
+        4 => sh * (w - y) + g * w,
+        _ => g * w - sh * (w - y),
+    }
+}
+
+/// Clips triangle `t` to the view volume and guard band. The result has 0 or 3..=9
+/// vertices.
+pub fn clip_triangle(t: [ClipVertex; 3], vp: &Viewport) -> Polygon {
+    // Common shift so every coordinate is below 2^40.
+    let max = t
+        .iter()
+        .flat_map(|v| v.pos.iter())
+        .fold(0u64, |m, c| m | c.unsigned_abs());
+    let shift = (64 - max.leading_zeros() as i32 - 40).max(0);
+    let mut cur = Polygon {
+        v: [ClipVertex::default(); MAX_POLY],
+        len: 3,
+    };
+    for (i, v) in t.iter().enumerate() {
+        cur.v[i] = ClipVertex {
+            pos: v.pos.map(|c| c >> shift),
+            c: v.c,
+        };
+    }
+    for k in 0..6 {
+        if cur.len == 0 {
+            break;
+        }
+        let mut next = Polygon {
+            v: [ClipVertex::default(); MAX_POLY],
+            len: 0,
+        };
+        for i in 0..cur.len {
+            let a = cur.v[i];
+            let b = cur.v[(i + 1) % cur.len];
+            let (da, db) = (distance(k, &a.pos, vp), distance(k, &b.pos, vp));
+            if da >= 0 {
+                push(&mut next, a);
+            }
+            if (da >= 0) != (db >= 0) {
+                push(&mut next, intersect(&a, &b, da, db));
+            }
+        }
+        cur = next;
+    }
+    if cur.len < 3 {
+        cur.len = 0;
+    }
+    cur
+}
+
+fn push(p: &mut Polygon, v: ClipVertex) {
+    // A convex polygon gains at most one vertex per plane: 3 + 6 = MAX_POLY.
+    if p.len < MAX_POLY {
+        p.v[p.len] = v;
+        p.len += 1;
+    }
+}
+
+/// The point where the segment a→b crosses the plane: `a + (b − a)·da/(da − db)`.
+fn intersect(a: &ClipVertex, b: &ClipVertex, da: i128, db: i128) -> ClipVertex {
+    let den = da - db; // non-zero: the signs differ
+    let lerp = |x: i128, y: i128| x + (y - x) * da / den;
+    ClipVertex {
+        pos: core::array::from_fn(|i| lerp(a.pos[i] as i128, b.pos[i] as i128) as i64),
+        c: core::array::from_fn(|i| lerp(a.c[i] as i128, b.c[i] as i128) as i32),
+    }
+}
+
+/// True if the screen triangle faces the viewer: counter-clockwise as seen, which with
+/// y pointing down means a negative signed area. Zero-area triangles are not front
+/// faces (they are dropped anyway).
+#[inline]
+pub fn is_front(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> bool {
+    signed_area(a, b, c) < 0
+}
+
+/// Twice the signed area of a Q12.4 screen triangle (y down). |coordinates| < 2¹⁶,
+/// so each product is below 2³⁴: `i64`.
+#[inline]
+pub fn signed_area(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> i64 {
+    (b.0 - a.0) as i64 * (c.1 - a.1) as i64 - (c.0 - a.0) as i64 * (b.1 - a.1) as i64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: i64, y: i64, z: i64, w: i64) -> ClipVertex {
+        ClipVertex {
+            pos: [x, y, z, w],
+            c: [0; 3],
+        }
+    }
+
+    #[test]
+    fn inside_triangle_is_unchanged() {
+        let vp = Viewport {
+            width: 100,
+            height: 100,
+        };
+        let t = [v(0, 0, 0, 1 << 20), v(1 << 19, 0, 0, 1 << 20), v(0, 1 << 19, 0, 1 << 20)];
+        let p = clip_triangle(t, &vp);
+        assert_eq!(p.len, 3);
+        assert_eq!(p.v[1].pos, t[1].pos);
+    }
+
+    #[test]
+    fn near_plane_cuts_a_corner() {
+        let vp = Viewport {
+            width: 100,
+            height: 100,
+        };
+        // One vertex behind the near plane (z < -w).
+        let one = 1 << 20;
+        let t = [v(0, 0, 0, one), v(one / 2, 0, 0, one), v(0, 0, -2 * one, one)];
+        let p = clip_triangle(t, &vp);
+        assert_eq!(p.len, 4);
+        for q in &p.v[..p.len] {
+            assert!(q.pos[2] + q.pos[3] >= 0);
+        }
+    }
+
+    #[test]
+    fn fully_outside_is_empty() {
+        let vp = Viewport {
+            width: 100,
+            height: 100,
+        };
+        let one = 1 << 20;
+        let t = [v(0, 0, 2 * one, one), v(one, 0, 2 * one, one), v(0, one, 3 * one, one)];
+        assert_eq!(clip_triangle(t, &vp).len, 0);
+    }
+}

@@ -1,0 +1,173 @@
+//! Geometry: meshes in flash and the projection from clip space to the screen.
+//!
+//! A [`Mesh`] borrows `&'static` (or any) slices of Q16.16 positions, Q2.14 normals and
+//! `u16` index triples, so a baked model lives in flash and costs no RAM.
+//!
+//! ```
+//! use fixshade::fixed::{Q16_16, Q2_14};
+//! use fixshade::geometry::Mesh;
+//! static POS: [[Q16_16; 3]; 3] = [
+//!     [Q16_16::ZERO, Q16_16::ZERO, Q16_16::ZERO],
+//!     [Q16_16::ONE, Q16_16::ZERO, Q16_16::ZERO],
+//!     [Q16_16::ZERO, Q16_16::ONE, Q16_16::ZERO],
+//! ];
+//! static NRM: [[Q2_14; 3]; 3] = [[Q2_14::from_bits(0), Q2_14::from_bits(0), Q2_14::ONE]; 3];
+//! static TRI: [[u16; 3]; 1] = [[0, 1, 2]];
+//! let mesh = Mesh::new(&POS, &NRM, &TRI).unwrap();
+//! assert_eq!(mesh.triangles().len(), 1);
+//! ```
+
+use crate::fixed::{Q16_16, Q2_14};
+use crate::math::Vec3;
+use crate::raster::GUARD;
+
+/// Largest |coordinate| of a mesh position (keeps the per-vertex `i64` transform
+/// from overflowing; see [`crate::math::ClipMatrix::transform`]).
+pub const MAX_COORD: i32 = 1 << 14;
+
+/// Why a mesh was refused.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum MeshError {
+    /// Positions and normals differ in count.
+    NormalCount,
+    /// More than 65535 vertices.
+    TooManyVertices,
+    /// A triangle refers to a vertex that does not exist (the triangle's number).
+    IndexOutOfRange(usize),
+    /// A position lies outside ±16384 (the vertex's number).
+    CoordinateOutOfRange(usize),
+}
+
+impl core::fmt::Display for MeshError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            MeshError::NormalCount => f.write_str("positions and normals differ in count"),
+            MeshError::TooManyVertices => f.write_str("more than 65535 vertices"),
+            MeshError::IndexOutOfRange(t) => write!(f, "triangle {t} refers to a missing vertex"),
+            MeshError::CoordinateOutOfRange(v) => {
+                write!(f, "vertex {v} lies outside the coordinate range ±16384")
+            }
+        }
+    }
+}
+
+/// A validated triangle mesh. Triangles are counter-clockwise seen from their front.
+#[derive(Copy, Clone, Debug)]
+pub struct Mesh<'a> {
+    positions: &'a [Vec3],
+    normals: &'a [[Q2_14; 3]],
+    triangles: &'a [[u16; 3]],
+}
+
+impl<'a> Mesh<'a> {
+    /// Checks and wraps the slices.
+    pub fn new(
+        positions: &'a [Vec3],
+        normals: &'a [[Q2_14; 3]],
+        triangles: &'a [[u16; 3]],
+    ) -> Result<Mesh<'a>, MeshError> {
+        if positions.len() != normals.len() {
+            return Err(MeshError::NormalCount);
+        }
+        if positions.len() > 65535 {
+            return Err(MeshError::TooManyVertices);
+        }
+        let lim = Q16_16::from_int(MAX_COORD);
+        if let Some(i) = positions
+            .iter()
+            .position(|p| p.iter().any(|c| c.abs() >= lim))
+        {
+            return Err(MeshError::CoordinateOutOfRange(i));
+        }
+        let n = positions.len();
+        if let Some(t) = triangles
+            .iter()
+            .position(|t| t.iter().any(|i| *i as usize >= n))
+        {
+            return Err(MeshError::IndexOutOfRange(t));
+        }
+        Ok(Mesh {
+            positions,
+            normals,
+            triangles,
+        })
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &'a [Vec3] {
+        self.positions
+    }
+
+    /// Vertex normals.
+    pub fn normals(&self) -> &'a [[Q2_14; 3]] {
+        self.normals
+    }
+
+    /// Triangles.
+    pub fn triangles(&self) -> &'a [[u16; 3]] {
+        self.triangles
+    }
+}
+
+/// The viewport: clip coordinates to Q12.4 screen coordinates and Q16.16 depth.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Viewport {
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+}
+
+/// Depth scale: d in [0, 1] maps to `d · DEPTH_SCALE` in Q16.16 (u16 values 0..=65534;
+/// 65535 is the cleared "far" value that nothing reaches).
+pub const DEPTH_SCALE: i64 = 65534 << 16;
+
+impl Viewport {
+    /// Projects homogeneous clip coordinates (any common scale, `w > 0`). Returns
+    /// `(x, y, z)` with x, y in Q12.4 and z in Q16.16, or `None` if `w ≤ 0`, the depth
+    /// is outside [0, 1], or the point lies outside the guard band.
+    ///
+    /// The coordinates are first shifted so the largest is below 2³⁰ (relative
+    /// precision 2⁻²⁹; projection is scale-free). Then `8·W·(x + w)` < 2³¹·2¹⁵ and
+    /// `(z + w)·65534·2¹⁵` < 2³¹·2³¹ fit `i64`.
+    ///
+    /// ```
+    /// use fixshade::geometry::Viewport;
+    /// let vp = Viewport { width: 320, height: 240 };
+    /// // The centre of NDC lands on the centre of the frame, depth halfway.
+    /// assert_eq!(vp.project([0, 0, 0, 1 << 20]), Some((160 * 16, 120 * 16, 32767 << 16)));
+    /// ```
+    #[inline]
+    pub fn project(&self, c: [i64; 4]) -> Option<(i32, i32, u32)> {
+        let [x, y, z, w] = normalize_clip(c);
+        if w <= 0 || z < -w || z > w {
+            return None;
+        }
+        let sx = round_div(8 * self.width as i64 * (x + w), w);
+        let sy = round_div(8 * self.height as i64 * (w - y), w);
+        if sx.abs() >= GUARD as i64 || sy.abs() >= GUARD as i64 {
+            return None;
+        }
+        let sz = (z + w) * (DEPTH_SCALE >> 1) / w;
+        Some((sx as i32, sy as i32, sz as u32))
+    }
+}
+
+/// Shifts homogeneous coordinates right until every |component| < 2³⁰.
+#[inline]
+pub fn normalize_clip(c: [i64; 4]) -> [i64; 4] {
+    let max = c.iter().fold(0u64, |m, v| m | v.unsigned_abs());
+    let bits = 64 - max.leading_zeros() as i32;
+    let shift = bits - 30;
+    if shift > 0 {
+        c.map(|v| v >> shift)
+    } else {
+        c
+    }
+}
+
+/// `round(n / d)` for `d > 0`, halves rounded up.
+#[inline]
+fn round_div(n: i64, d: i64) -> i64 {
+    (2 * n + d).div_euclid(2 * d)
+}

@@ -1,0 +1,359 @@
+//! The pipeline, end to end: vertex stage, clip & cull, rasterization.
+//!
+//! [`Frame::prepare`] runs the vertex stage once per frame: every vertex of every
+//! object is transformed, projected and lit once (not once per triangle corner) into
+//! a caller-owned cache of [`XfVertex`]. [`Frame::draw`] then rasterizes into any
+//! [`Target`], as many times as needed: once for a framebuffer, or once per strip.
+//!
+//! ```
+//! use fixshade::fixed::{Angle, Q16_16, Q2_14};
+//! use fixshade::geometry::Mesh;
+//! use fixshade::light::{Light, Material};
+//! use fixshade::raster::span::Gradient;
+//! use fixshade::render::{Frame, XfVertex};
+//! use fixshade::scene::{Camera, Object, Placement, Projection, Scene};
+//! use fixshade::target::{Framebuffer, Rgb565Le, Target};
+//!
+//! // One triangle facing the camera.
+//! static POS: [[Q16_16; 3]; 3] = [
+//!     [Q16_16::from_int(-1), Q16_16::from_int(-1), Q16_16::ZERO],
+//!     [Q16_16::from_int(1), Q16_16::from_int(-1), Q16_16::ZERO],
+//!     [Q16_16::ZERO, Q16_16::from_int(1), Q16_16::ZERO],
+//! ];
+//! static NRM: [[Q2_14; 3]; 3] = [[Q2_14::from_bits(0), Q2_14::from_bits(0), Q2_14::ONE]; 3];
+//! static TRI: [[u16; 3]; 1] = [[0, 1, 2]];
+//!
+//! let camera = Camera {
+//!     eye: [Q16_16::ZERO, Q16_16::ZERO, Q16_16::from_int(3)],
+//!     target: [Q16_16::ZERO; 3],
+//!     up: [Q16_16::ZERO, Q16_16::ONE, Q16_16::ZERO],
+//!     projection: Projection::Perspective {
+//!         fovy: Angle::from_degrees(60),
+//!         near: Q16_16::ONE,
+//!         far: Q16_16::from_int(10),
+//!     },
+//! };
+//! let mut scene = Scene::new(camera);
+//! let white = [Q16_16::ONE; 3];
+//! scene.add_light(Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white)).unwrap();
+//! let mesh = Mesh::new(&POS, &NRM, &TRI).unwrap();
+//! scene
+//!     .add_object(Object { mesh, placement: Placement::default(), material: Material::default() })
+//!     .unwrap();
+//!
+//! let (w, h) = (32, 24);
+//! let mut color = [0u16; 32 * 24];
+//! let mut depth = [0xFFFFu16; 32 * 24];
+//! let mut cache = [XfVertex::default(); 3];
+//! let mut fb = Framebuffer::<Rgb565Le>::new(&mut color, Some(&mut depth), w, h).unwrap();
+//! let frame = Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache).unwrap();
+//! let stats = frame.draw::<Gradient, _>(&mut fb).unwrap();
+//! assert_eq!(stats.drawn, 1);
+//! assert!(stats.pixels > 100);
+//! ```
+
+use core::marker::PhantomData;
+
+use crate::clip::{clip_triangle, is_front, ClipVertex};
+use crate::geometry::{normalize_clip, Viewport, DEPTH_SCALE};
+use crate::light::{BlinnExact, LightingSetup, Specular};
+use crate::math::{normalize_to_q30, Affine3, ClipMatrix, ONE_Q30};
+use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
+use crate::raster::{draw_triangle, ScreenVertex, GUARD};
+use crate::scene::{Scene, ShadingMode, MAX_OBJECTS};
+use crate::shade::{Flat, Gouraud, Shading};
+use crate::target::{PixelFormat, Target};
+
+/// A vertex after the vertex stage: its screen position, depth and lit colour in the
+/// target's channel units, and whether it needs clipping.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct XfVertex {
+    /// Screen vertex (position valid only when `outside` is false).
+    pub s: ScreenVertex,
+    /// True if the vertex lies outside the guard band or the depth range.
+    pub outside: bool,
+}
+
+/// Why a frame could not be prepared or drawn.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum RenderError {
+    /// The vertex cache holds fewer entries than the scene has vertices.
+    CacheTooSmall {
+        /// Entries needed ([`Scene::vertex_count`]).
+        needed: usize,
+    },
+    /// Frame width or height is zero or above 4096.
+    BadSize,
+    /// The camera's view is undefined (eye = target, or up parallel to the view).
+    BadView,
+    /// The projection parameters are invalid (fovy, near, far).
+    BadProjection,
+    /// An object's model matrix is singular (scale 0).
+    SingularModel {
+        /// The object's index.
+        object: usize,
+    },
+    /// The target's frame size differs from the prepared frame's.
+    TargetSizeMismatch,
+    /// The scene asks for a depth test but the target has no depth buffer.
+    NoDepthBuffer,
+}
+
+impl core::fmt::Display for RenderError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RenderError::CacheTooSmall { needed } => {
+                write!(f, "vertex cache too small: the scene needs {needed} entries")
+            }
+            RenderError::BadSize => f.write_str("frame width and height must be 1..=4096"),
+            RenderError::BadView => {
+                f.write_str("camera eye equals target, or up is parallel to the view direction")
+            }
+            RenderError::BadProjection => f.write_str("invalid projection (fovy, near or far)"),
+            RenderError::SingularModel { object } => {
+                write!(f, "object {object} has a singular model matrix (scale 0)")
+            }
+            RenderError::TargetSizeMismatch => {
+                f.write_str("target frame size differs from the prepared frame")
+            }
+            RenderError::NoDepthBuffer => {
+                f.write_str("the scene uses the depth test but the target has no depth buffer")
+            }
+        }
+    }
+}
+
+/// What a draw call did.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Triangles submitted.
+    pub triangles: u32,
+    /// Dropped as back faces or zero area.
+    pub culled: u32,
+    /// Went through the clipper.
+    pub clipped: u32,
+    /// Triangles rasterized (after clipping, fans count once per piece).
+    pub drawn: u32,
+    /// Pixels covered inside the target (before the depth test).
+    pub pixels: u32,
+}
+
+impl core::ops::AddAssign for Stats {
+    fn add_assign(&mut self, o: Stats) {
+        self.triangles += o.triangles;
+        self.culled += o.culled;
+        self.clipped += o.clipped;
+        self.drawn += o.drawn;
+        self.pixels += o.pixels;
+    }
+}
+
+#[derive(Copy, Clone, Debug)]
+struct Prepared {
+    clip: ClipMatrix,
+    offset: usize,
+}
+
+/// A frame whose vertex stage has run; draw it into one or more targets.
+pub struct Frame<'s, 'a, 'c, P: PixelFormat> {
+    scene: &'s Scene<'a>,
+    cache: &'c [XfVertex],
+    objects: heapless::Vec<Prepared, MAX_OBJECTS>,
+    vp: Viewport,
+    _format: PhantomData<P>,
+}
+
+/// Converts a lit Q16.16 colour (0..=1) to the format's channel units in Q.16.
+/// `c·MAX` ≤ 2¹⁶·255 < 2²⁴; for grey, `(77r + 150g + 29b)·255` < 2³²·… is taken in i64.
+#[inline]
+fn to_channels<P: PixelFormat>(c: [i32; 3]) -> [i32; 3] {
+    if P::GRAY {
+        let y = 77 * c[0] as i64 + 150 * c[1] as i64 + 29 * c[2] as i64;
+        [((y * 255) >> 8) as i32, 0, 0]
+    } else {
+        [
+            c[0] * P::MAX[0] as i32,
+            c[1] * P::MAX[1] as i32,
+            c[2] * P::MAX[2] as i32,
+        ]
+    }
+}
+
+impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
+    /// Runs the vertex stage with exact Blinn specular ([`BlinnExact`]).
+    pub fn prepare(
+        scene: &'s Scene<'a>,
+        width: u32,
+        height: u32,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Self, RenderError> {
+        Self::prepare_with::<BlinnExact>(scene, width, height, cache)
+    }
+
+    /// Runs the vertex stage with the specular model `Sp`.
+    pub fn prepare_with<Sp: Specular>(
+        scene: &'s Scene<'a>,
+        width: u32,
+        height: u32,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Self, RenderError> {
+        if width == 0 || width > 4096 || height == 0 || height > 4096 {
+            return Err(RenderError::BadSize);
+        }
+        let needed = scene.vertex_count();
+        if cache.len() < needed {
+            return Err(RenderError::CacheTooSmall { needed });
+        }
+        let view = scene.camera.view().ok_or(RenderError::BadView)?;
+        let proj = scene
+            .camera
+            .projection_matrix(width, height)
+            .ok_or(RenderError::BadProjection)?;
+        let vp = Viewport { width, height };
+        let mut objects = heapless::Vec::new();
+        let mut offset = 0;
+        for (i, obj) in scene.objects.iter().enumerate() {
+            let mv = view.mul(&obj.placement.matrix());
+            let clip = ClipMatrix::new(&proj.mul(&mv)).ok_or(RenderError::SingularModel { object: i })?;
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let light = LightingSetup::<Sp>::new(
+                &scene.lights,
+                &view,
+                &obj.material,
+                scene.global_ambient,
+                scene.local_viewer,
+            );
+            let mesh = &obj.mesh;
+            let out = &mut cache[offset..offset + mesh.positions().len()];
+            for ((o, p), n) in out.iter_mut().zip(mesh.positions()).zip(mesh.normals()) {
+                let (s, outside) = match vp.project(clip.transform(p)) {
+                    Some((x, y, z)) => (ScreenVertex { x, y, z, c: [0; 3] }, false),
+                    None => (ScreenVertex::default(), true),
+                };
+                let nm = &aff.normal;
+                let nv = [n[0].to_bits() as i64, n[1].to_bits() as i64, n[2].to_bits() as i64];
+                // Entries < 2^31, components < 2^15: sums of three < 2^48.
+                let ne: [i64; 3] =
+                    core::array::from_fn(|r| nm[r][0] as i64 * nv[0] + nm[r][1] as i64 * nv[1] + nm[r][2] as i64 * nv[2]);
+                let unit = normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30]);
+                let lit = light.shade(aff.point(p), unit);
+                *o = XfVertex {
+                    s: ScreenVertex {
+                        c: to_channels::<P>(lit),
+                        ..s
+                    },
+                    outside,
+                };
+            }
+            // Capacity equals the scene's object capacity.
+            let _ = objects.push(Prepared { clip, offset });
+            offset += mesh.positions().len();
+        }
+        Ok(Frame {
+            scene,
+            cache,
+            objects,
+            vp,
+            _format: PhantomData,
+        })
+    }
+
+    /// Draws with the scene's depth and shading settings and the span method `S`.
+    pub fn draw<S: SpanMethod, T: Target<P>>(&self, target: &mut T) -> Result<Stats, RenderError> {
+        if self.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        match (self.scene.depth_test, self.scene.shading) {
+            (true, ShadingMode::Gouraud) => self.draw_with::<S, DepthTest, Gouraud, T>(target),
+            (true, ShadingMode::Flat) => self.draw_with::<S, DepthTest, Flat, T>(target),
+            (false, ShadingMode::Gouraud) => self.draw_with::<S, NoDepth, Gouraud, T>(target),
+            (false, ShadingMode::Flat) => self.draw_with::<S, NoDepth, Flat, T>(target),
+        }
+    }
+
+    /// Draws with every variant chosen by type: span method, depth mode, shading.
+    pub fn draw_with<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
+            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t = [verts[tri[0] as usize], verts[tri[1] as usize], verts[tri[2] as usize]];
+                let mut s = [t[0].s, t[1].s, t[2].s];
+                if !Sh::INTERPOLATE {
+                    let c = s[2].c;
+                    s[0].c = c;
+                    s[1].c = c;
+                }
+                if !(t[0].outside || t[1].outside || t[2].outside) {
+                    let a = crate::clip::signed_area((s[0].x, s[0].y), (s[1].x, s[1].y), (s[2].x, s[2].y));
+                    if a == 0 || (cull && a > 0) {
+                        st.culled += 1;
+                        continue;
+                    }
+                    st.drawn += 1;
+                    st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, s);
+                } else {
+                    st.clipped += 1;
+                    let pos = obj.mesh.positions();
+                    let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                        pos: prep.clip.transform(&pos[tri[k] as usize]),
+                        c: s[k].c,
+                    });
+                    self.draw_clipped::<S, Z, Sh, T>(target, cv, cull, &mut st);
+                }
+            }
+        }
+        Ok(st)
+    }
+
+    fn draw_clipped<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+        t: [ClipVertex; 3],
+        cull: bool,
+        st: &mut Stats,
+    ) {
+        let poly = clip_triangle(t, &self.vp);
+        let mut sv = [ScreenVertex::default(); crate::clip::MAX_POLY];
+        for (o, v) in sv.iter_mut().zip(poly.v[..poly.len].iter()) {
+            let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
+                return;
+            };
+            *o = ScreenVertex { x, y, z, c: v.c };
+        }
+        for i in 1..poly.len.saturating_sub(1) {
+            let tri = [sv[0], sv[i], sv[i + 1]];
+            let front = is_front((tri[0].x, tri[0].y), (tri[1].x, tri[1].y), (tri[2].x, tri[2].y));
+            let area = crate::clip::signed_area((tri[0].x, tri[0].y), (tri[1].x, tri[1].y), (tri[2].x, tri[2].y));
+            if area == 0 || (cull && !front) {
+                continue;
+            }
+            st.drawn += 1;
+            st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, tri);
+        }
+    }
+}
+
+/// Projects a clipped vertex: like [`Viewport::project`] but clamps what rounding in
+/// the clipper may have pushed a hair outside (depth to [0, 1], x and y into the guard
+/// band). `None` only if `w ≤ 0`.
+fn project_clamped(vp: &Viewport, c: [i64; 4]) -> Option<(i32, i32, u32)> {
+    let [x, y, z, w] = normalize_clip(c);
+    if w <= 0 {
+        return None;
+    }
+    let z = z.clamp(-w, w);
+    let lim = (GUARD - 1) as i64;
+    let sx = ((2 * 8 * vp.width as i64 * (x + w) + w).div_euclid(2 * w)).clamp(-lim, lim);
+    let sy = ((2 * 8 * vp.height as i64 * (w - y) + w).div_euclid(2 * w)).clamp(-lim, lim);
+    let sz = (z + w) * (DEPTH_SCALE >> 1) / w;
+    Some((sx as i32, sy as i32, sz as u32))
+}

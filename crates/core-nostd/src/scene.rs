@@ -1,0 +1,185 @@
+//! Scenes: camera, up to 8 lights, objects (a mesh, a placement and a material) and
+//! the render settings, in fixed capacity (no allocation).
+//!
+//! ```
+//! use fixshade::fixed::{Angle, Q16_16};
+//! use fixshade::scene::{Camera, Projection};
+//! let cam = Camera {
+//!     eye: [Q16_16::ZERO, Q16_16::ZERO, Q16_16::from_int(4)],
+//!     target: [Q16_16::ZERO; 3],
+//!     up: [Q16_16::ZERO, Q16_16::ONE, Q16_16::ZERO],
+//!     projection: Projection::Perspective {
+//!         fovy: Angle::from_degrees(45),
+//!         near: Q16_16::ONE,
+//!         far: Q16_16::from_int(10),
+//!     },
+//! };
+//! assert!(cam.view().is_some());
+//! assert!(cam.projection_matrix(320, 240).is_some());
+//! ```
+
+use crate::fixed::{Angle, Q16_16};
+use crate::geometry::Mesh;
+use crate::light::{Color, Light, Material, MAX_LIGHTS};
+use crate::math::{Mat4, Vec3};
+
+/// Maximum number of objects in a scene.
+pub const MAX_OBJECTS: usize = 16;
+
+/// A projection.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Projection {
+    /// `gluPerspective(fovy, width / height, near, far)`.
+    Perspective {
+        /// Vertical field of view, strictly between 0 and 180°.
+        fovy: Angle,
+        /// Near plane distance, > 0.
+        near: Q16_16,
+        /// Far plane distance, > near.
+        far: Q16_16,
+    },
+    /// `glOrtho(-h·a/2, h·a/2, -h/2, h/2, near, far)`, a = width / height.
+    Orthographic {
+        /// View-volume height.
+        height: Q16_16,
+        /// Near plane.
+        near: Q16_16,
+        /// Far plane, > near.
+        far: Q16_16,
+    },
+}
+
+/// A `gluLookAt` camera with its projection.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Up direction.
+    pub up: Vec3,
+    /// Projection.
+    pub projection: Projection,
+}
+
+impl Camera {
+    /// The view matrix, `None` if eye = target or up is parallel to the view direction.
+    pub fn view(&self) -> Option<Mat4> {
+        Mat4::look_at(self.eye, self.target, self.up)
+    }
+
+    /// The projection matrix for a `width` × `height` frame, `None` for invalid
+    /// parameters.
+    pub fn projection_matrix(&self, width: u32, height: u32) -> Option<Mat4> {
+        match self.projection {
+            Projection::Perspective { fovy, near, far } => {
+                Mat4::perspective(fovy, width, height, near, far)
+            }
+            Projection::Orthographic { height: h, near, far } => {
+                Mat4::orthographic(h, width, height, near, far)
+            }
+        }
+    }
+}
+
+/// Where an object sits: the model matrix `T · Rz · Ry · Rx · S`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Placement {
+    /// Translation.
+    pub translate: Vec3,
+    /// Rotation about x, y and z (x applied first).
+    pub rotate: [Angle; 3],
+    /// Uniform scale.
+    pub scale: Q16_16,
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Placement {
+            translate: [Q16_16::ZERO; 3],
+            rotate: [Angle::default(); 3],
+            scale: Q16_16::ONE,
+        }
+    }
+}
+
+impl Placement {
+    /// The model matrix.
+    pub fn matrix(&self) -> Mat4 {
+        Mat4::model(self.translate, self.rotate, [self.scale; 3])
+    }
+}
+
+/// A mesh placed in the world with a material.
+#[derive(Copy, Clone, Debug)]
+pub struct Object<'a> {
+    /// The mesh (usually in flash).
+    pub mesh: Mesh<'a>,
+    /// Placement.
+    pub placement: Placement,
+    /// Material.
+    pub material: Material,
+}
+
+/// Shading mode chosen in a scene.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum ShadingMode {
+    /// One colour per triangle.
+    Flat,
+    /// Vertex colours interpolated.
+    #[default]
+    Gouraud,
+}
+
+/// Everything a frame needs.
+#[derive(Clone, Debug)]
+pub struct Scene<'a> {
+    /// Camera.
+    pub camera: Camera,
+    /// Lights (at most 8).
+    pub lights: heapless::Vec<Light, MAX_LIGHTS>,
+    /// Global ambient light.
+    pub global_ambient: Color,
+    /// Local viewer (`GL_LIGHT_MODEL_LOCAL_VIEWER`).
+    pub local_viewer: bool,
+    /// Objects (at most 16).
+    pub objects: heapless::Vec<Object<'a>, MAX_OBJECTS>,
+    /// Cull back faces.
+    pub cull_back: bool,
+    /// Test and write depth.
+    pub depth_test: bool,
+    /// Shading mode.
+    pub shading: ShadingMode,
+}
+
+impl<'a> Scene<'a> {
+    /// An empty scene with OpenGL's global ambient (0.2), back-face culling, depth
+    /// test and Gouraud shading.
+    pub fn new(camera: Camera) -> Scene<'a> {
+        Scene {
+            camera,
+            lights: heapless::Vec::new(),
+            global_ambient: [Q16_16::from_ratio(1, 5); 3],
+            local_viewer: false,
+            objects: heapless::Vec::new(),
+            cull_back: true,
+            depth_test: true,
+            shading: ShadingMode::Gouraud,
+        }
+    }
+
+    /// Adds a light; `Err` with the light back if 8 are already there.
+    pub fn add_light(&mut self, light: Light) -> Result<(), Light> {
+        self.lights.push(light)
+    }
+
+    /// Adds an object; `Err` with the object back if 16 are already there.
+    pub fn add_object(&mut self, object: Object<'a>) -> Result<(), Object<'a>> {
+        self.objects.push(object)
+    }
+
+    /// Total vertex count of all objects: the size a vertex cache needs.
+    pub fn vertex_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.positions().len()).sum()
+    }
+}
