@@ -150,7 +150,11 @@ mod tests {
             width: 100,
             height: 100,
         };
-        let t = [v(0, 0, 0, 1 << 20), v(1 << 19, 0, 0, 1 << 20), v(0, 1 << 19, 0, 1 << 20)];
+        let t = [
+            v(0, 0, 0, 1 << 20),
+            v(1 << 19, 0, 0, 1 << 20),
+            v(0, 1 << 19, 0, 1 << 20),
+        ];
         let p = clip_triangle(t, &vp);
         assert_eq!(p.len, 3);
         assert_eq!(p.v[1].pos, t[1].pos);
@@ -164,7 +168,11 @@ mod tests {
         };
         // One vertex behind the near plane (z < -w).
         let one = 1 << 20;
-        let t = [v(0, 0, 0, one), v(one / 2, 0, 0, one), v(0, 0, -2 * one, one)];
+        let t = [
+            v(0, 0, 0, one),
+            v(one / 2, 0, 0, one),
+            v(0, 0, -2 * one, one),
+        ];
         let p = clip_triangle(t, &vp);
         assert_eq!(p.len, 4);
         for q in &p.v[..p.len] {
@@ -179,7 +187,11 @@ mod tests {
             height: 100,
         };
         let one = 1 << 20;
-        let t = [v(0, 0, 2 * one, one), v(one, 0, 2 * one, one), v(0, one, 3 * one, one)];
+        let t = [
+            v(0, 0, 2 * one, one),
+            v(one, 0, 2 * one, one),
+            v(0, one, 3 * one, one),
+        ];
         assert_eq!(clip_triangle(t, &vp).len, 0);
     }
 }

@@ -70,7 +70,10 @@ impl Q16_16 {
         if den == 0 {
             return Q16_16(0);
         }
-        Q16_16(sat_i64_to_i32(div_round_i64((num as i64) << 16, den as i64)))
+        Q16_16(sat_i64_to_i32(div_round_i64(
+            (num as i64) << 16,
+            den as i64,
+        )))
     }
 
     /// The value rounded down to an integer.
@@ -154,7 +157,10 @@ impl Div for Q16_16 {
             };
         }
         // |self << 16| ≤ 2⁴⁷: fits i64.
-        Q16_16(sat_i64_to_i32(div_round_i64((self.0 as i64) << 16, o.0 as i64)))
+        Q16_16(sat_i64_to_i32(div_round_i64(
+            (self.0 as i64) << 16,
+            o.0 as i64,
+        )))
     }
 }
 
@@ -166,7 +172,11 @@ impl core::fmt::Display for Q16_16 {
         let a = v.unsigned_abs();
         let int = a >> 16;
         let frac = ((a & 0xFFFF) * 100_000 + (1 << 15)) >> 16;
-        let (int, frac) = if frac >= 100_000 { (int + 1, frac - 100_000) } else { (int, frac) };
+        let (int, frac) = if frac >= 100_000 {
+            (int + 1, frac - 100_000)
+        } else {
+            (int, frac)
+        };
         write!(f, "{sign}{int}.{frac:05}")
     }
 }

@@ -185,7 +185,8 @@ impl<S: Specular> LightingSetup<S> {
                 LightKind::Directional { direction } => {
                     let d = view.transform_dir(direction);
                     let l = normalize_to_q30(d).unwrap_or([0, 0, ONE_Q30]);
-                    let h = normalize_to_q30([l[0] as i64, l[1] as i64, l[2] as i64 + ONE_Q30 as i64]);
+                    let h =
+                        normalize_to_q30([l[0] as i64, l[1] as i64, l[2] as i64 + ONE_Q30 as i64]);
                     EyeKind::Directional { l, h }
                 }
                 LightKind::Point {
@@ -200,7 +201,13 @@ impl<S: Specular> LightingSetup<S> {
                     }
                 }
             };
-            let prod = |a: &Color, b: &Color| [mul_q16(a[0], b[0]), mul_q16(a[1], b[1]), mul_q16(a[2], b[2])];
+            let prod = |a: &Color, b: &Color| {
+                [
+                    mul_q16(a[0], b[0]),
+                    mul_q16(a[1], b[1]),
+                    mul_q16(a[2], b[2]),
+                ]
+            };
             let spec = prod(&light.specular, &material.specular);
             // Cannot overflow: MAX_LIGHTS entries and `out` has that capacity.
             let _ = out.push(EyeLight {
@@ -234,7 +241,8 @@ impl<S: Specular> LightingSetup<S> {
     pub fn shade(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
         let mut acc = self.base;
         let view = if self.local_viewer {
-            normalize_to_q30([-(p[0] as i64), -(p[1] as i64), -(p[2] as i64)]).unwrap_or([0, 0, ONE_Q30])
+            normalize_to_q30([-(p[0] as i64), -(p[1] as i64), -(p[2] as i64)])
+                .unwrap_or([0, 0, ONE_Q30])
         } else {
             [0, 0, ONE_Q30]
         };
@@ -339,7 +347,8 @@ mod tests {
             specular: [q(1, 4); 3],
             shininess: Q16_16::from_int(50),
         };
-        let setup = LightingSetup::<BlinnExact>::new(&[light], &Mat4::IDENTITY, &mat, [q(1, 5); 3], false);
+        let setup =
+            LightingSetup::<BlinnExact>::new(&[light], &Mat4::IDENTITY, &mat, [q(1, 5); 3], false);
         let c = setup.shade([0, 0, 0], [0, 0, ONE_Q30]);
         // 0.05 + 0.2·0.2 + 0.1·0.2 + 0.5 + 0.25 = 0.86
         let want = 0.86 * 65536.0;
@@ -356,7 +365,13 @@ mod tests {
             specular: white,
             ..Material::default()
         };
-        let setup = LightingSetup::<BlinnExact>::new(&[light], &Mat4::IDENTITY, &mat, [Q16_16::ZERO; 3], true);
+        let setup = LightingSetup::<BlinnExact>::new(
+            &[light],
+            &Mat4::IDENTITY,
+            &mat,
+            [Q16_16::ZERO; 3],
+            true,
+        );
         assert_eq!(setup.shade([0, 0, -(3 << 16)], [0, 0, ONE_Q30]), [0, 0, 0]);
     }
 

@@ -441,11 +441,16 @@ impl ClipMatrix {
     /// 2³¹·2³⁰ = 2⁶¹ and the sum of four below 2⁶³, so the `i64` sums cannot overflow.
     #[inline]
     pub fn transform(&self, p: &Vec3) -> [i64; 4] {
-        let (x, y, z) = (p[0].to_bits() as i64, p[1].to_bits() as i64, p[2].to_bits() as i64);
+        let (x, y, z) = (
+            p[0].to_bits() as i64,
+            p[1].to_bits() as i64,
+            p[2].to_bits() as i64,
+        );
         let mut r = [0i64; 4];
         for (i, out) in r.iter_mut().enumerate() {
             let row = &self.m[i];
-            *out = row[0] as i64 * x + row[1] as i64 * y + row[2] as i64 * z + ((row[3] as i64) << 16);
+            *out =
+                row[0] as i64 * x + row[1] as i64 * y + row[2] as i64 * z + ((row[3] as i64) << 16);
         }
         r
     }
@@ -468,9 +473,7 @@ impl Affine3 {
     /// The upper 3×4 part of a model-view matrix. `None` if its linear part is
     /// singular.
     pub fn new(mat: &Mat4) -> Option<Affine3> {
-        let r = |v: i64| -> i32 {
-            crate::fixed::sat_i64_to_i32((v + (1 << 15)) >> 16)
-        };
+        let r = |v: i64| -> i32 { crate::fixed::sat_i64_to_i32((v + (1 << 15)) >> 16) };
         let mut linear = [[0i32; 3]; 3];
         let mut translation = [0i32; 3];
         for i in 0..3 {
@@ -526,7 +529,9 @@ impl Affine3 {
             let acc = l[0] as i64 * p[0].to_bits() as i64
                 + l[1] as i64 * p[1].to_bits() as i64
                 + l[2] as i64 * p[2].to_bits() as i64;
-            *out = crate::fixed::sat_i64_to_i32(((acc + (1 << 15)) >> 16) + self.translation[i] as i64);
+            *out = crate::fixed::sat_i64_to_i32(
+                ((acc + (1 << 15)) >> 16) + self.translation[i] as i64,
+            );
         }
         r
     }
@@ -538,7 +543,10 @@ impl Affine3 {
 /// shifting to below 2³⁰·√(2) per component).
 #[inline]
 pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
-    let max = v[0].unsigned_abs().max(v[1].unsigned_abs()).max(v[2].unsigned_abs());
+    let max = v[0]
+        .unsigned_abs()
+        .max(v[1].unsigned_abs())
+        .max(v[2].unsigned_abs());
     if max == 0 {
         return None;
     }
@@ -698,7 +706,10 @@ mod tests {
     fn normalize_q30_is_unit() {
         for v in [[3i64, 4, 0], [1, 1, 1], [-7, 0, 1 << 40], [0, 0, -1]] {
             let n = normalize_to_q30(v).unwrap();
-            let l: f64 = n.iter().map(|c| (*c as f64 / (1 << 30) as f64).powi(2)).sum();
+            let l: f64 = n
+                .iter()
+                .map(|c| (*c as f64 / (1 << 30) as f64).powi(2))
+                .sum();
             assert!((l - 1.0).abs() < 1e-8);
         }
         assert_eq!(normalize_to_q30([0, 0, 0]), None);
@@ -706,7 +717,19 @@ mod tests {
 
     #[test]
     fn isqrt_is_floor() {
-        for n in [0u128, 1, 2, 3, 4, 15, 16, 17, 1 << 100, (1 << 100) - 1, u64::MAX as u128] {
+        for n in [
+            0u128,
+            1,
+            2,
+            3,
+            4,
+            15,
+            16,
+            17,
+            1 << 100,
+            (1 << 100) - 1,
+            u64::MAX as u128,
+        ] {
             let r = isqrt_u128(n);
             assert!(r * r <= n && (r + 1) * (r + 1) > n);
         }

@@ -75,9 +75,11 @@ impl Camera {
             Projection::Perspective { fovy, near, far } => {
                 Mat4::perspective(fovy, width, height, near, far)
             }
-            Projection::Orthographic { height: h, near, far } => {
-                Mat4::orthographic(h, width, height, near, far)
-            }
+            Projection::Orthographic {
+                height: h,
+                near,
+                far,
+            } => Mat4::orthographic(h, width, height, near, far),
         }
     }
 }

@@ -267,12 +267,16 @@ impl Named for FormatName {
 
 impl Named for ShadingName {
     const WHAT: &'static str = "shading mode";
-    const ALL: &'static [(Self, &'static str)] =
-        &[(ShadingName::Flat, "flat"), (ShadingName::Gouraud, "gouraud")];
+    const ALL: &'static [(Self, &'static str)] = &[
+        (ShadingName::Flat, "flat"),
+        (ShadingName::Gouraud, "gouraud"),
+    ];
 }
 
 impl Named for SpanName {
     const WHAT: &'static str = "span method";
-    const ALL: &'static [(Self, &'static str)] =
-        &[(SpanName::Classic, "classic"), (SpanName::Gradient, "gradient")];
+    const ALL: &'static [(Self, &'static str)] = &[
+        (SpanName::Classic, "classic"),
+        (SpanName::Gradient, "gradient"),
+    ];
 }

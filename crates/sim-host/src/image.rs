@@ -86,8 +86,8 @@ impl Image {
     /// from the background (the `fixshade:background` chunk, or the top-left pixel)
     /// counts as covered.
     pub fn read_png(path: &Path) -> Result<Image, String> {
-        let file =
-            std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+        let file = std::fs::File::open(path)
+            .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
         let mut dec = png::Decoder::new(std::io::BufReader::new(file));
         dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
         let mut reader = dec
@@ -126,8 +126,7 @@ impl Image {
                 covered = decode_runs(&t.text, n);
             }
         }
-        let covered =
-            covered.unwrap_or_else(|| pixels.iter().map(|p| *p != background).collect());
+        let covered = covered.unwrap_or_else(|| pixels.iter().map(|p| *p != background).collect());
         Ok(Image {
             width: w,
             height: h,

@@ -1,7 +1,11 @@
 //! fixshade host simulator.
+pub mod cli;
 pub mod compare;
+pub mod convert;
+pub mod demo;
 pub mod desc;
 pub mod image;
 pub mod mesh;
+pub mod pipeline;
 pub mod reference;
 pub mod scene_file;

@@ -103,7 +103,9 @@ mod tests {
     fn stepping_matches_direct_evaluation() {
         let mut seed = 12345u64;
         let mut rnd = |m: i64| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 33) as i64 % (2 * m)) - m
         };
         for _ in 0..2000 {

@@ -82,7 +82,8 @@ impl EdgeAttrs {
         let mut inc = [0i64; ATTRS];
         for k in 0..ATTRS {
             let da = (ab[k] - at[k]) as i128;
-            val[k] = (((at[k] as i128 + setup::ROUND_BIAS as i128) << 16) + ((da * off) << 16) / dy) as i64;
+            val[k] = (((at[k] as i128 + setup::ROUND_BIAS as i128) << 16) + ((da * off) << 16) / dy)
+                as i64;
             inc[k] = (((da * 16) << 16) / dy) as i64;
         }
         EdgeAttrs { val, inc }
@@ -211,7 +212,13 @@ where
                 },
                 _ => EdgeValues::default(),
             };
-            let span = Span { y, x0, x1, v, edges };
+            let span = Span {
+                y,
+                x0,
+                x1,
+                v,
+                edges,
+            };
             let (crow, drow) = target.row(y);
             let (a, b) = (x0 as usize, x1 as usize);
             let depth: &mut [u16] = if Z::TEST { &mut drow[a..b] } else { &mut [] };

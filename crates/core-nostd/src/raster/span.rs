@@ -82,7 +82,11 @@ pub trait SpanMethod {
 fn pack<P: PixelFormat>(v: &[i32; ATTRS]) -> P::Raw {
     // Channel values are in [0, MAX + 0.57) by the setup bound, so `>> 16` gives
     // 0..=MAX; the casts cannot lose a valid value.
-    P::pack((v[0] >> 16) as u32, (v[1] >> 16) as u32, (v[2] >> 16) as u32)
+    P::pack(
+        (v[0] >> 16) as u32,
+        (v[1] >> 16) as u32,
+        (v[2] >> 16) as u32,
+    )
 }
 
 #[inline(always)]
@@ -200,7 +204,7 @@ impl SpanMethod for Classic {
         let mut g = [0i32; ATTRS];
         for k in 0..ATTRS {
             let diff = e.ir[k] - e.il[k]; // |diff| < 2^33
-            // diff·t < 2^33·2^29 = 2^62; diff << 16 < 2^49.
+                                          // diff·t < 2^33·2^29 = 2^62; diff << 16 < 2^49.
             v[k] = (e.il[k] + diff * t / w) as i32; // modulo 2^32 (depth is unsigned)
             g[k] = ((diff << 16) / w) as i32;
         }

@@ -1,0 +1,291 @@
+//! Host rendering: load a scene (file or built-in), run the fixed-point core on it,
+//! run the f64 reference on the same quantised input, and turn either into an
+//! [`Image`].
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crate::convert::{core_scene, quantize_mesh, quantize_scene, FixedMesh};
+use crate::desc::{FormatName, MeshData, SceneDesc, SpanName};
+use crate::image::{channel_max, expand, Image};
+use crate::reference::{render_reference, RefOptions};
+use crate::{mesh, scene_file};
+use fixshade::raster::span::{Classic, Gradient, NoDepth, SpanMethod};
+use fixshade::render::{Frame, Stats, XfVertex};
+use fixshade::shade::Flat;
+use fixshade::target::{Framebuffer, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
+
+/// A scene with its meshes built and quantised, ready for both renderers.
+#[derive(Clone, Debug)]
+pub struct LoadedScene {
+    /// Where the scene came from (file path or built-in name).
+    pub name: String,
+    /// The description, quantised to the core's grid.
+    pub desc: SceneDesc,
+    /// The meshes in f64, quantised (for the reference).
+    pub meshes: Vec<MeshData>,
+    /// The meshes in the core's formats.
+    pub fixed: Vec<FixedMesh>,
+}
+
+/// Reads a scene: `arg` is a built-in scene name or a scene file path.
+pub fn read_scene(arg: &str) -> Result<(SceneDesc, PathBuf), String> {
+    if let Some(d) = scene_file::builtin_scene(arg) {
+        return Ok((d, PathBuf::from(".")));
+    }
+    let path = Path::new(arg);
+    if !path.exists() {
+        return Err(format!(
+            "{arg}: no such scene file, and not a built-in scene (built-ins: {})",
+            scene_file::BUILTIN_SCENES.join(", ")
+        ));
+    }
+    let d = scene_file::load_scene(path).map_err(|e| e.to_string())?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok((d, dir))
+}
+
+/// Builds the meshes of `desc` (OBJ paths relative to `base_dir`) and quantises
+/// everything.
+pub fn load(name: &str, desc: &SceneDesc, base_dir: &Path) -> Result<LoadedScene, String> {
+    let mut meshes = Vec::new();
+    let mut fixed = Vec::new();
+    for o in &desc.objects {
+        let m = mesh::build(&o.mesh, base_dir).map_err(|e| e.to_string())?;
+        let q = quantize_mesh(&m);
+        fixed.push(FixedMesh::from_mesh(&q)?);
+        meshes.push(q);
+    }
+    Ok(LoadedScene {
+        name: name.to_string(),
+        desc: quantize_scene(desc),
+        meshes,
+        fixed,
+    })
+}
+
+/// [`read_scene`] then [`load`].
+pub fn load_arg(arg: &str) -> Result<LoadedScene, String> {
+    let (d, dir) = read_scene(arg)?;
+    load(arg, &d, &dir)
+}
+
+/// Channel integers of the background in `format` (rounded to nearest).
+pub fn background_channels(format: FormatName, bg: [u8; 3]) -> [u32; 3] {
+    let m = channel_max(format);
+    if format == FormatName::Gray8 {
+        let y = (77 * bg[0] as u32 + 150 * bg[1] as u32 + 29 * bg[2] as u32 + 128) / 256;
+        return [y; 3];
+    }
+    [0, 1, 2].map(|i| (bg[i] as u32 * m[i] + 127) / 255)
+}
+
+/// The background as it appears in the image: quantised to the format, expanded.
+pub fn background8(desc: &SceneDesc) -> [u8; 3] {
+    expand(
+        desc.format,
+        background_channels(desc.format, desc.background),
+    )
+}
+
+/// The f64 reference render, with the background quantised like the core's.
+pub fn reference(ls: &LoadedScene, phong: bool) -> Image {
+    let mut img = render_reference(&ls.desc, &ls.meshes, &RefOptions { phong });
+    let bg = background8(&ls.desc);
+    img.background = bg;
+    for (p, c) in img.pixels.iter_mut().zip(&img.covered) {
+        if !c {
+            *p = bg;
+        }
+    }
+    img
+}
+
+/// A pixel format that records coverage: every store writes 1.
+struct Mask;
+
+impl PixelFormat for Mask {
+    type Raw = u8;
+    const MAX: [u32; 3] = [1, 1, 1];
+    const GRAY: bool = true;
+    const BYTES: usize = 1;
+    const NAME: &'static str = "mask";
+    fn pack(_: u32, _: u32, _: u32) -> u8 {
+        1
+    }
+    fn unpack(p: u8) -> [u32; 3] {
+        [p as u32; 3]
+    }
+    fn bytes(p: u8) -> [u8; 3] {
+        [p, 0, 0]
+    }
+}
+
+/// The result of a fixed-point render.
+#[derive(Clone, Debug)]
+pub struct Render {
+    /// The image (with coverage).
+    pub image: Image,
+    /// The framebuffer bytes in memory order.
+    pub bytes: Vec<u8>,
+    /// Draw statistics.
+    pub stats: Stats,
+}
+
+fn span_dispatch<P: PixelFormat>(
+    frame: &Frame<'_, '_, '_, P>,
+    span: SpanName,
+    fb: &mut impl fixshade::target::Target<P>,
+) -> Result<Stats, String> {
+    let r = match span {
+        SpanName::Classic => frame.draw::<Classic, _>(fb),
+        SpanName::Gradient => frame.draw::<Gradient, _>(fb),
+    };
+    r.map_err(|e| e.to_string())
+}
+
+fn run_core<P: PixelFormat>(
+    ls: &LoadedScene,
+    strip_rows: Option<u32>,
+) -> Result<(Vec<P::Raw>, Stats), String> {
+    let d = &ls.desc;
+    let scene = core_scene(d, &ls.fixed)?;
+    let (w, h) = (d.width, d.height);
+    let n = w as usize * h as usize;
+    let bgc = background_channels(d.format, d.background);
+    let bg = P::pack(bgc[0], bgc[1], bgc[2]);
+    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let frame = Frame::<P>::prepare(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
+    let mut color = vec![bg; n];
+    let mut stats = Stats::default();
+    match strip_rows {
+        None => {
+            let mut depth = vec![0xFFFFu16; n];
+            let mut fb =
+                Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
+                    .map_err(|e| e.to_string())?;
+            stats = span_dispatch(&frame, d.span, &mut fb)?;
+        }
+        Some(rows) => {
+            let rows = rows.clamp(1, h);
+            let mut buf = vec![bg; w as usize * rows as usize];
+            let mut depth = vec![0xFFFFu16; w as usize * rows as usize];
+            let mut y0 = 0;
+            while y0 < h {
+                let hh = rows.min(h - y0);
+                let mut strip = Strip::<P>::new(
+                    &mut buf,
+                    d.depth_test.then_some(&mut depth[..]),
+                    w,
+                    h,
+                    y0,
+                    hh,
+                )
+                .map_err(|e| e.to_string())?;
+                strip.clear(bg);
+                stats += span_dispatch(&frame, d.span, &mut strip)?;
+                let len = w as usize * hh as usize;
+                let at = y0 as usize * w as usize;
+                color[at..at + len].copy_from_slice(&strip.color()[..len]);
+                y0 += hh;
+            }
+        }
+    }
+    Ok((color, stats))
+}
+
+fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
+    let d = &ls.desc;
+    let scene = core_scene(d, &ls.fixed)?;
+    let (w, h) = (d.width, d.height);
+    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let frame = Frame::<Mask>::prepare(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
+    let mut mask = vec![0u8; w as usize * h as usize];
+    let mut fb = Framebuffer::<Mask>::new(&mut mask, None, w, h).map_err(|e| e.to_string())?;
+    frame
+        .draw_with::<Gradient, NoDepth, Flat, _>(&mut fb)
+        .map_err(|e| e.to_string())?;
+    Ok(mask.iter().map(|m| *m != 0).collect())
+}
+
+fn to_render<P: PixelFormat>(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, String> {
+    let (color, stats) = run_core::<P>(ls, strip_rows)?;
+    let d = &ls.desc;
+    let covered = coverage(ls)?;
+    let bg = background8(d);
+    let pixels = color
+        .iter()
+        .zip(&covered)
+        .map(|(p, c)| {
+            if *c {
+                expand(d.format, P::unpack(*p))
+            } else {
+                bg
+            }
+        })
+        .collect();
+    let bytes = color
+        .iter()
+        .flat_map(|p| P::bytes(*p).into_iter().take(P::BYTES))
+        .collect();
+    Ok(Render {
+        image: Image {
+            width: d.width,
+            height: d.height,
+            pixels,
+            covered,
+            background: bg,
+        },
+        bytes,
+        stats,
+    })
+}
+
+/// Renders with the fixed-point core, whole frame (`strip_rows = None`) or strip by
+/// strip.
+pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, String> {
+    match ls.desc.format {
+        FormatName::Rgb565Le => to_render::<Rgb565Le>(ls, strip_rows),
+        FormatName::Rgb565Be => to_render::<Rgb565Be>(ls, strip_rows),
+        FormatName::Rgb888 => to_render::<Rgb888>(ls, strip_rows),
+        FormatName::Gray8 => to_render::<Gray8>(ls, strip_rows),
+    }
+}
+
+/// Median wall time of one frame (vertex stage + rasterization, framebuffer clear
+/// excluded) over `runs` runs.
+pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+    fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+        let d = &ls.desc;
+        let scene = core_scene(d, &ls.fixed)?;
+        let (w, h) = (d.width, d.height);
+        let n = w as usize * h as usize;
+        let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+        let mut color = vec![P::Raw::default(); n];
+        let mut depth = vec![0xFFFFu16; n];
+        let mut times = Vec::with_capacity(runs);
+        for _ in 0..runs.max(1) {
+            depth.fill(0xFFFF);
+            let t = Instant::now();
+            let frame = Frame::<P>::prepare(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
+            let mut fb =
+                Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
+                    .map_err(|e| e.to_string())?;
+            std::hint::black_box(span_dispatch(&frame, d.span, &mut fb)?);
+            times.push(t.elapsed());
+        }
+        times.sort();
+        Ok(times[times.len() / 2])
+    }
+    match ls.desc.format {
+        FormatName::Rgb565Le => go::<Rgb565Le>(ls, runs),
+        FormatName::Rgb565Be => go::<Rgb565Be>(ls, runs),
+        FormatName::Rgb888 => go::<Rgb888>(ls, runs),
+        FormatName::Gray8 => go::<Gray8>(ls, runs),
+    }
+}
+
+/// Names of the span methods, for help texts.
+pub fn span_names() -> [&'static str; 2] {
+    [Classic::NAME, Gradient::NAME]
+}
