@@ -1,1 +1,73 @@
-fn main() {}
+//! Project tasks: `cargo xtask test` runs every test of the workspace and the no_std
+//! builds of the core for the MCU targets.
+
+use std::process::{Command, ExitCode};
+
+/// The MCU targets the core must build for, with the feature sets to try.
+const NO_STD_TARGETS: [&str; 2] = ["thumbv6m-none-eabi", "thumbv7em-none-eabihf"];
+const FEATURE_SETS: [&str; 2] = ["", "f32-input"];
+
+fn cargo(args: &[&str]) -> Result<(), String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    eprintln!("xtask: cargo {}", args.join(" "));
+    let status = Command::new(&cargo)
+        .args(args)
+        .status()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`cargo {}` failed ({status})", args.join(" ")))
+    }
+}
+
+/// Installs the MCU targets with rustup (a no-op when they are there).
+fn ensure_targets() -> Result<(), String> {
+    let status = Command::new("rustup")
+        .args(["target", "add"])
+        .args(NO_STD_TARGETS)
+        .status()
+        .map_err(|e| format!("cannot run rustup to add the MCU targets: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`rustup target add` failed ({status})"))
+    }
+}
+
+fn test() -> Result<(), String> {
+    cargo(&["test", "--workspace"])?;
+    ensure_targets()?;
+    for target in NO_STD_TARGETS {
+        for features in FEATURE_SETS {
+            let mut args = vec!["build", "--release", "-p", "fixshade", "--target", target];
+            if !features.is_empty() {
+                args.extend(["--features", features]);
+            }
+            cargo(&args)?;
+        }
+    }
+    Ok(())
+}
+
+const USAGE: &str =
+    "usage: cargo xtask test    (every test, plus no_std builds for thumbv6m and thumbv7em)";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("test") => test(),
+        Some("help") | Some("--help") | None => {
+            eprintln!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        Some(other) => Err(format!("unknown task `{other}`\n{USAGE}")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

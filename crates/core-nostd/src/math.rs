@@ -474,16 +474,11 @@ impl Affine3 {
     /// singular.
     pub fn new(mat: &Mat4) -> Option<Affine3> {
         let r = |v: i64| -> i32 { crate::fixed::sat_i64_to_i32((v + (1 << 15)) >> 16) };
-        let mut linear = [[0i32; 3]; 3];
-        let mut translation = [0i32; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                linear[i][j] = r(mat.m[i][j]);
-            }
-            translation[i] = r(mat.m[i][3]);
-        }
-        // Cofactors of the Q32.32 linear part (i128: entries < 2^63 would overflow,
-        // but model-view entries are far below 2^48, so products fit in i128).
+        let linear: [[i32; 3]; 3] =
+            core::array::from_fn(|i| core::array::from_fn(|j| r(mat.m[i][j])));
+        let translation: [i32; 3] = core::array::from_fn(|i| r(mat.m[i][3]));
+        // Cofactors of the Q32.32 linear part: products of two i64 are below 2^126
+        // and their difference below 2^127, so i128 holds them.
         let a = |i: usize, j: usize| mat.m[i][j] as i128;
         let mut cof = [[0i128; 3]; 3];
         for (i, row) in cof.iter_mut().enumerate() {
@@ -505,11 +500,11 @@ impl Affine3 {
         let shift = bits - 31;
         let sign = if det < 0 { -1 } else { 1 };
         let mut normal = [[0i32; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                let v = cof[i][j] * sign;
+        for (row, crow) in normal.iter_mut().zip(cof.iter()) {
+            for (e, c) in row.iter_mut().zip(crow.iter()) {
+                let v = c * sign;
                 let s = if shift >= 0 { v >> shift } else { v << -shift };
-                normal[i][j] = s.clamp(-(i32::MAX as i128), i32::MAX as i128) as i32;
+                *e = s.clamp(-(i32::MAX as i128), i32::MAX as i128) as i32;
             }
         }
         Some(Affine3 {

@@ -123,6 +123,16 @@ pub struct Object<'a> {
     pub material: Material,
 }
 
+/// A scene's fixed capacity (8 lights, 16 objects) is exhausted.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct CapacityError;
+
+impl core::fmt::Display for CapacityError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("scene capacity exhausted (at most 8 lights and 16 objects)")
+    }
+}
+
 /// Shading mode chosen in a scene.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum ShadingMode {
@@ -170,14 +180,14 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// Adds a light; `Err` with the light back if 8 are already there.
-    pub fn add_light(&mut self, light: Light) -> Result<(), Light> {
-        self.lights.push(light)
+    /// Adds a light; fails if 8 are already there.
+    pub fn add_light(&mut self, light: Light) -> Result<(), CapacityError> {
+        self.lights.push(light).map_err(|_| CapacityError)
     }
 
-    /// Adds an object; `Err` with the object back if 16 are already there.
-    pub fn add_object(&mut self, object: Object<'a>) -> Result<(), Object<'a>> {
-        self.objects.push(object)
+    /// Adds an object; fails if 16 are already there.
+    pub fn add_object(&mut self, object: Object<'a>) -> Result<(), CapacityError> {
+        self.objects.push(object).map_err(|_| CapacityError)
     }
 
     /// Total vertex count of all objects: the size a vertex cache needs.

@@ -124,7 +124,7 @@ fn output(o: &Opts) -> Result<&PathBuf, CliError> {
     o.output.as_ref().ok_or_else(|| usage("missing -o OUT.png"))
 }
 
-fn write(img: &Image, path: &PathBuf) -> Result<(), CliError> {
+fn write(img: &Image, path: &std::path::Path) -> Result<(), CliError> {
     if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .map_err(|e| fail(format!("cannot create {}: {e}", dir.display())))?;

@@ -18,8 +18,8 @@ pub fn run_demo() -> Result<String, String> {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<8} {:>9} {:>8} {:>9} {:>10} {:>11}  {}",
-        "figure", "triangles", "drawn", "pixels", "ms/frame", "NMSE", "verdict"
+        "{:<8} {:>9} {:>8} {:>9} {:>10} {:>11}  verdict",
+        "figure", "triangles", "drawn", "pixels", "ms/frame", "NMSE"
     );
     for name in FIGURES {
         let ls = pipeline::load_arg(name)?;

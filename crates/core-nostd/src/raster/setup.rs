@@ -75,7 +75,7 @@ fn attrs(v: &ScreenVertex) -> [i64; ATTRS] {
 /// and the true value at every covered pixel fits, so the result there is still exact
 /// to the bound above.
 pub fn setup(mut v: [ScreenVertex; 3]) -> Option<Setup> {
-    v.sort_unstable_by(|a, b| (a.y, a.x).cmp(&(b.y, b.x)));
+    v.sort_unstable_by_key(|p| (p.y, p.x));
     let (dx1, dy1) = ((v[1].x - v[0].x) as i64, (v[1].y - v[0].y) as i64);
     let (dx2, dy2) = ((v[2].x - v[0].x) as i64, (v[2].y - v[0].y) as i64);
     let det = dx1 * dy2 - dx2 * dy1;
