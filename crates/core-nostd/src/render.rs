@@ -65,13 +65,57 @@ use crate::shade::{Flat, Gouraud, Shading};
 use crate::target::{PixelFormat, Target};
 
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
-/// target's channel units, and whether it needs clipping.
+/// target's channel units, and flags.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct XfVertex {
-    /// Screen vertex (position valid only when `outside` is false).
+    /// Screen vertex (position valid only without [`OUTSIDE`]; colour only with
+    /// [`NEEDED`]).
     pub s: ScreenVertex,
-    /// True if the vertex lies outside the guard band or the depth range.
-    pub outside: bool,
+    /// [`OUTSIDE`] and [`NEEDED`] bits.
+    pub flags: u8,
+}
+
+/// Flag: the vertex lies outside the guard band or the depth range (its triangles go
+/// through the clipper).
+pub const OUTSIDE: u8 = 1;
+/// Flag: some triangle that may be drawn uses the vertex, so it was lit.
+pub const NEEDED: u8 = 2;
+
+/// What to do with a triangle.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum Class {
+    /// Culled, zero-area, or entirely off the frame rows/columns.
+    Skip,
+    /// All vertices inside the guard band: rasterize directly.
+    Draw,
+    /// Some vertex outside: clip first.
+    Clip,
+}
+
+/// Classifies a triangle by its vertex-stage output. `rows` are the frame rows a
+/// target holds; a triangle entirely above, below, left or right of them is skipped.
+#[inline]
+fn classify(t: &[XfVertex; 3], cull: bool, vp: &Viewport, rows: core::ops::Range<i32>) -> Class {
+    if (t[0].flags | t[1].flags | t[2].flags) & OUTSIDE != 0 {
+        return Class::Clip;
+    }
+    let (a, b, c) = (t[0].s, t[1].s, t[2].s);
+    let area = crate::clip::signed_area((a.x, a.y), (b.x, b.y), (c.x, c.y));
+    if area == 0 || (cull && area > 0) {
+        return Class::Skip;
+    }
+    // Pixel centres at 16k + 8: a triangle whose max coordinate is below the first
+    // centre, or whose min coordinate is past the last, covers nothing.
+    let (x_min, x_max) = (a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x));
+    let (y_min, y_max) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
+    if x_max < 8
+        || x_min > 16 * vp.width as i32 - 8
+        || y_max < 16 * rows.start + 8
+        || y_min > 16 * rows.end - 8
+    {
+        return Class::Skip;
+    }
+    Class::Draw
 }
 
 /// Why a frame could not be prepared or drawn.
@@ -131,7 +175,7 @@ impl core::fmt::Display for RenderError {
 pub struct Stats {
     /// Triangles submitted.
     pub triangles: u32,
-    /// Dropped as back faces or zero area.
+    /// Dropped as back faces, zero area, or outside the target.
     pub culled: u32,
     /// Went through the clipper.
     pub clipped: u32,
@@ -229,12 +273,35 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
             );
             let mesh = &obj.mesh;
             let out = &mut cache[offset..offset + mesh.positions().len()];
-            for ((o, p), n) in out.iter_mut().zip(mesh.positions()).zip(mesh.normals()) {
-                let (s, outside) = match vp.project(clip.transform(p)) {
-                    Some((x, y, z)) => (ScreenVertex { x, y, z, c: [0; 3] }, false),
-                    None => (ScreenVertex::default(), true),
+            // 1. Transform and project every vertex once.
+            for (o, p) in out.iter_mut().zip(mesh.positions()) {
+                *o = match vp.project(clip.transform(p)) {
+                    Some((x, y, z)) => XfVertex {
+                        s: ScreenVertex { x, y, z, c: [0; 3] },
+                        flags: 0,
+                    },
+                    None => XfVertex {
+                        s: ScreenVertex::default(),
+                        flags: OUTSIDE,
+                    },
                 };
-                let nm = &aff.normal;
+            }
+            // 2. Cull before lighting: only vertices of triangles that may be drawn
+            //    are lit.
+            for tri in mesh.triangles() {
+                let t = tri.map(|i| out[i as usize]);
+                if classify(&t, scene.cull_back, &vp, 0..height as i32) != Class::Skip {
+                    for i in tri {
+                        out[*i as usize].flags |= NEEDED;
+                    }
+                }
+            }
+            // 3. Light the vertices that are needed.
+            let nm = &aff.normal;
+            for ((o, p), n) in out.iter_mut().zip(mesh.positions()).zip(mesh.normals()) {
+                if o.flags & NEEDED == 0 {
+                    continue;
+                }
                 let nv = [
                     n[0].to_bits() as i64,
                     n[1].to_bits() as i64,
@@ -245,14 +312,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
                     nm[r][0] as i64 * nv[0] + nm[r][1] as i64 * nv[1] + nm[r][2] as i64 * nv[2]
                 });
                 let unit = normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30]);
-                let lit = light.shade(aff.point(p), unit);
-                *o = XfVertex {
-                    s: ScreenVertex {
-                        c: to_channels::<P>(lit),
-                        ..s
-                    },
-                    outside,
-                };
+                o.s.c = to_channels::<P>(light.shade(aff.point(p), unit));
             }
             // Capacity equals the scene's object capacity.
             let _ = objects.push(Prepared { clip, offset });
@@ -290,41 +350,33 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
         }
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
+        let rows = target.rows();
         for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             for tri in obj.mesh.triangles() {
                 st.triangles += 1;
-                let t = [
-                    verts[tri[0] as usize],
-                    verts[tri[1] as usize],
-                    verts[tri[2] as usize],
-                ];
+                let t = tri.map(|i| verts[i as usize]);
                 let mut s = [t[0].s, t[1].s, t[2].s];
                 if !Sh::INTERPOLATE {
                     let c = s[2].c;
                     s[0].c = c;
                     s[1].c = c;
                 }
-                if !(t[0].outside || t[1].outside || t[2].outside) {
-                    let a = crate::clip::signed_area(
-                        (s[0].x, s[0].y),
-                        (s[1].x, s[1].y),
-                        (s[2].x, s[2].y),
-                    );
-                    if a == 0 || (cull && a > 0) {
-                        st.culled += 1;
-                        continue;
+                match classify(&t, cull, &self.vp, rows.clone()) {
+                    Class::Skip => st.culled += 1,
+                    Class::Draw => {
+                        st.drawn += 1;
+                        st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, s);
                     }
-                    st.drawn += 1;
-                    st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, s);
-                } else {
-                    st.clipped += 1;
-                    let pos = obj.mesh.positions();
-                    let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                        pos: prep.clip.transform(&pos[tri[k] as usize]),
-                        c: s[k].c,
-                    });
-                    self.draw_clipped::<S, Z, Sh, T>(target, cv, cull, &mut st);
+                    Class::Clip => {
+                        st.clipped += 1;
+                        let pos = obj.mesh.positions();
+                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                            pos: prep.clip.transform(&pos[tri[k] as usize]),
+                            c: s[k].c,
+                        });
+                        self.draw_clipped::<S, Z, Sh, T>(target, cv, cull, &mut st);
+                    }
                 }
             }
         }

@@ -82,7 +82,8 @@ pub fn setup(mut v: [ScreenVertex; 3]) -> Option<Setup> {
     if det == 0 {
         return None;
     }
-    let inv = (1i128 << 62) / det.unsigned_abs() as i128;
+    // |det| ≥ 1 and < 2^35: a u64 division (one hardware divide on 64-bit hosts).
+    let inv = ((1u64 << 62) / det.unsigned_abs()) as i128;
     let sign: i128 = if det < 0 { -1 } else { 1 };
     // |num| < 2^54 and inv ≤ 2^62: the i128 product is below 2^116; the rounded
     // quotient is below 2^55 and fits i64.

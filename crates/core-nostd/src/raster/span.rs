@@ -78,71 +78,66 @@ pub trait SpanMethod {
     );
 }
 
+/// Packs the rounded channels `r >> 16`, `g >> 16`, `b >> 16`. Channel values are in
+/// [0, MAX + 0.57) by the setup bound, so the shifts give 0..=MAX.
 #[inline(always)]
-fn pack<P: PixelFormat>(v: &[i32; ATTRS]) -> P::Raw {
-    // Channel values are in [0, MAX + 0.57) by the setup bound, so `>> 16` gives
-    // 0..=MAX; the casts cannot lose a valid value.
-    P::pack(
-        (v[0] >> 16) as u32,
-        (v[1] >> 16) as u32,
-        (v[2] >> 16) as u32,
-    )
+fn pack<P: PixelFormat>(r: i32, g: i32, b: i32) -> P::Raw {
+    P::pack((r >> 16) as u32, (g >> 16) as u32, (b >> 16) as u32)
 }
 
+/// The u16 depth of a Q16.16 depth value (bias included).
 #[inline(always)]
-fn depth_of(v: &[i32; ATTRS]) -> u16 {
-    ((v[3] as u32) >> 16) as u16
-}
-
-#[inline(always)]
-fn step<P: PixelFormat, Sh: Shading, Z: DepthMode>(v: &mut [i32; ATTRS], g: &[i32; ATTRS]) {
-    if Sh::INTERPOLATE {
-        v[0] = v[0].wrapping_add(g[0]);
-        if !P::GRAY {
-            v[1] = v[1].wrapping_add(g[1]);
-            v[2] = v[2].wrapping_add(g[2]);
-        }
-    }
-    if Z::TEST {
-        v[3] = v[3].wrapping_add(g[3]);
-    }
+fn depth_of(z: i32) -> u16 {
+    ((z as u32) >> 16) as u16
 }
 
 /// The pixel stage: writes `color.len()` pixels starting from values `v`, stepping
-/// by `g` per pixel (wrapping adds: exact modulo 2³², see `setup`).
+/// by `g` per pixel (wrapping adds: exact modulo 2³², see `setup`). The attributes are
+/// held in separate scalars so the loop keeps them in registers.
 #[inline(always)]
 pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
     color: &mut [P::Raw],
     depth: &mut [u16],
-    mut v: [i32; ATTRS],
+    v: [i32; ATTRS],
     g: &[i32; ATTRS],
 ) {
+    let [mut r, mut gg, mut b, mut z] = v;
+    let [dr, dg, db, dz] = *g;
     if Sh::INTERPOLATE {
         if Z::TEST {
             for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
-                let z = depth_of(&v);
-                if z < *d {
-                    *d = z;
-                    P::store(c, pack::<P>(&v));
+                let zz = depth_of(z);
+                if zz < *d {
+                    *d = zz;
+                    P::store(c, pack::<P>(r, gg, b));
                 }
-                step::<P, Sh, Z>(&mut v, g);
+                r = r.wrapping_add(dr);
+                if !P::GRAY {
+                    gg = gg.wrapping_add(dg);
+                    b = b.wrapping_add(db);
+                }
+                z = z.wrapping_add(dz);
             }
         } else {
             for c in color.iter_mut() {
-                P::store(c, pack::<P>(&v));
-                step::<P, Sh, Z>(&mut v, g);
+                P::store(c, pack::<P>(r, gg, b));
+                r = r.wrapping_add(dr);
+                if !P::GRAY {
+                    gg = gg.wrapping_add(dg);
+                    b = b.wrapping_add(db);
+                }
             }
         }
     } else {
-        let p = pack::<P>(&v);
+        let p = pack::<P>(r, gg, b);
         if Z::TEST {
             for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
-                let z = depth_of(&v);
-                if z < *d {
-                    *d = z;
+                let zz = depth_of(z);
+                if zz < *d {
+                    *d = zz;
                     P::store(c, p);
                 }
-                step::<P, Sh, Z>(&mut v, g);
+                z = z.wrapping_add(dz);
             }
         } else {
             for c in color.iter_mut() {
