@@ -237,3 +237,6 @@ where
     }
     covered
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,139 @@
+//! The sphere benchmark as a table: per configuration and span method, the median
+//! time of one frame, covered pixels per frame, the cost per covered pixel and per
+//! submitted triangle, and each method's time relative to `classic`.
+//!
+//! Same scene and timed part as `benches/bench_sphere.rs`: the built-in scene
+//! "bench-sphere" with segments 32×20, 64×40, 128×80 at 320×240 and 640×480; one
+//! frame = `Frame::prepare` + `Frame::draw`; the depth buffer is reset to 0xFFFF
+//! before each frame, outside the timed part; the sphere turns about y by 7° from
+//! one round to the next.
+//!
+//! The methods are interleaved: every round draws the same angle once with each
+//! method, starting with a different method each round (AB, BA, AB, … for two), so
+//! drifts in machine speed hit all methods alike. The ratio column is the median of
+//! the per-round ratios `t(method) / t(classic)`, i.e. paired within a round.
+//!
+//! Run: `cargo run --release -p fixshade-sim --example bench_table [-- FRAMES]`
+//! (FRAMES per method and configuration, default 201, at least 50).
+
+use std::path::Path;
+use std::time::Instant;
+
+use fixshade::fixed::Angle;
+use fixshade::raster::span::{Classic, Gradient, SpanMethod};
+use fixshade::render::{Frame, Stats, XfVertex};
+use fixshade::scene::Scene;
+use fixshade::target::{Framebuffer, Rgb565Le};
+use fixshade_sim::convert::core_scene;
+use fixshade_sim::desc::MeshSource;
+use fixshade_sim::pipeline::load;
+use fixshade_sim::scene_file::builtin_scene;
+
+/// One timed frame: vertex stage + rasterization into `fb`.
+type FrameFn = fn(&Scene<'_>, &mut [XfVertex], &mut Framebuffer<'_, Rgb565Le>) -> Stats;
+
+fn frame<S: SpanMethod>(
+    scene: &Scene<'_>,
+    cache: &mut [XfVertex],
+    fb: &mut Framebuffer<'_, Rgb565Le>,
+) -> Stats {
+    use fixshade::target::Target;
+    let (w, h) = (fb.width(), fb.frame_height());
+    let f = Frame::<Rgb565Le>::prepare(scene, w, h, cache).expect("prepare");
+    f.draw::<S, _>(fb).expect("draw")
+}
+
+/// The span methods compared; the first is the baseline of the ratio column. To
+/// add a method, add a line.
+const METHODS: &[(&str, FrameFn)] = &[
+    (Classic::NAME, frame::<Classic>),
+    (Gradient::NAME, frame::<Gradient>),
+];
+
+const SEGMENTS: [(u32, u32); 3] = [(32, 20), (64, 40), (128, 80)];
+const SIZES: [(u32, u32); 2] = [(320, 240), (640, 480)];
+const STEP_DEG: i32 = 7;
+const WARMUP_ROUNDS: usize = 5;
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] + v[n / 2]) / 2.0
+    }
+}
+
+fn main() {
+    let frames: usize = std::env::args()
+        .nth(1)
+        .map(|a| a.parse().expect("FRAMES must be a number"))
+        .unwrap_or(201)
+        .max(50);
+    let m = METHODS.len();
+    println!(
+        "bench-sphere: median of {frames} frames per method, methods interleaved, \
+         depth reset outside the timed part"
+    );
+    println!(
+        "{:<9} {:<8} {:>6} {:<9} {:>11} {:>9} {:>9} {:>9} {:>9}",
+        "segments", "size", "tris", "method", "ns/frame", "px/frame", "ns/px", "ns/tri", "ratio"
+    );
+    for (lon, lat) in SEGMENTS {
+        for (w, h) in SIZES {
+            let mut d = builtin_scene("bench-sphere").expect("built-in scene bench-sphere");
+            d.width = w;
+            d.height = h;
+            d.objects[0].mesh = MeshSource::Sphere { lon, lat };
+            let ls = load("bench-sphere", &d, Path::new(".")).expect("load bench-sphere");
+            let mut scene = core_scene(&ls.desc, &ls.fixed).expect("core scene");
+            let n = (w * h) as usize;
+            let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+            let mut color = vec![0u16; n];
+            let mut depth = vec![0xFFFFu16; n];
+
+            // times[method][round], pixels[method] summed, triangles per frame.
+            let mut times = vec![Vec::with_capacity(frames); m];
+            let mut pixels = vec![0u64; m];
+            let mut tris = 0u32;
+            for round in 0..WARMUP_ROUNDS + frames {
+                let deg = (round as i32 * STEP_DEG) % 360;
+                scene.objects[0].placement.rotate[1] = Angle::from_degrees(deg);
+                for j in 0..m {
+                    let k = (round + j) % m;
+                    depth.fill(0xFFFF);
+                    let mut fb =
+                        Framebuffer::<Rgb565Le>::new(&mut color, Some(&mut depth), w, h).unwrap();
+                    let t = Instant::now();
+                    let st = std::hint::black_box((METHODS[k].1)(&scene, &mut cache, &mut fb));
+                    let ns = t.elapsed().as_nanos() as f64;
+                    if round >= WARMUP_ROUNDS {
+                        times[k].push(ns);
+                        pixels[k] += u64::from(st.pixels);
+                        tris = st.triangles;
+                    }
+                }
+            }
+            for k in 0..m {
+                let mut ratios: Vec<f64> =
+                    times[k].iter().zip(&times[0]).map(|(t, b)| t / b).collect();
+                let ratio = median(&mut ratios);
+                let t = median(&mut times[k].clone());
+                let px = pixels[k] as f64 / frames as f64;
+                println!(
+                    "{:<9} {:<8} {:>6} {:<9} {:>11.0} {:>9.0} {:>9.2} {:>9.1} {:>9.3}",
+                    format!("{lon}x{lat}"),
+                    format!("{w}x{h}"),
+                    tris,
+                    METHODS[k].0,
+                    t,
+                    px,
+                    t / px,
+                    t / f64::from(tris),
+                    ratio
+                );
+            }
+        }
+    }
+}
