@@ -31,6 +31,7 @@
 #![deny(clippy::float_arithmetic)]
 
 pub mod clip;
+pub mod divide;
 pub mod fixed;
 pub mod geometry;
 pub mod light;
@@ -39,6 +40,7 @@ pub mod raster;
 pub mod render;
 pub mod scene;
 pub mod shade;
+pub mod specular;
 pub mod target;
 
 /// The README's code blocks, compiled and run as doctests.

@@ -20,6 +20,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use fixshade::fixed::Angle;
+use fixshade::raster::parallel::{Counter, EvenOdd, KWay, Segment};
 use fixshade::raster::span::{Classic, Gradient, SpanMethod};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::scene::Scene;
@@ -48,6 +49,17 @@ fn frame<S: SpanMethod>(
 const METHODS: &[(&str, FrameFn)] = &[
     (Classic::NAME, frame::<Classic>),
     (Gradient::NAME, frame::<Gradient>),
+    (EvenOdd::NAME, frame::<EvenOdd>),
+    (KWay::<2>::NAME, frame::<KWay<2>>),
+    (KWay::<3>::NAME, frame::<KWay<3>>),
+    (KWay::<4>::NAME, frame::<KWay<4>>),
+    (Counter::NAME, frame::<Counter>),
+    (Segment::<2>::NAME, frame::<Segment<2>>),
+    (Segment::<4>::NAME, frame::<Segment<4>>),
+    (Segment::<8>::NAME, frame::<Segment<8>>),
+    (Segment::<16>::NAME, frame::<Segment<16>>),
+    (Segment::<32>::NAME, frame::<Segment<32>>),
+    (Segment::<64>::NAME, frame::<Segment<64>>),
 ];
 
 const SEGMENTS: [(u32, u32); 3] = [(32, 20), (64, 40), (128, 80)];

@@ -182,6 +182,28 @@ pub enum SpanName {
     Classic,
     /// Constant per-triangle increment (seed 000 §2.1).
     Gradient,
+    /// Two accumulators over even and odd pixels (seed 000 §3.1).
+    EvenOdd,
+    /// Two accumulators stepping 2·ΔI.
+    KWay2,
+    /// Three accumulators stepping 3·ΔI.
+    KWay3,
+    /// Four accumulators stepping 4·ΔI.
+    KWay4,
+    /// Two interpolators from both ends towards the middle (seed 000 §3.2).
+    Counter,
+    /// 2 units filling segments of 2 pixels.
+    Segment2,
+    /// 4 units filling segments of 4 pixels.
+    Segment4,
+    /// 8 units filling segments of 8 pixels.
+    Segment8,
+    /// 16 units filling segments of 14 pixels.
+    Segment16,
+    /// 32 units filling segments of 22 pixels.
+    Segment32,
+    /// 64 units filling segments of 32 pixels.
+    Segment64,
 }
 
 /// A whole scene as a scene file or a built-in scene describes it.

@@ -10,7 +10,7 @@ use crate::desc::{FormatName, MeshData, SceneDesc, SpanName};
 use crate::image::{channel_max, expand, Image};
 use crate::reference::{render_reference, RefOptions};
 use crate::{mesh, scene_file};
-use fixshade::raster::span::{Classic, Gradient, NoDepth, SpanMethod};
+use fixshade::raster::span::{Gradient, NoDepth};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::shade::Flat;
 use fixshade::target::{Framebuffer, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
@@ -132,16 +132,76 @@ pub struct Render {
     pub stats: Stats,
 }
 
+/// Runs `$body` with the type `$S` bound to the span method named by `$name`.
+#[macro_export]
+macro_rules! with_span_method {
+    ($name:expr, $S:ident => $body:expr) => {{
+        use fixshade::raster::parallel::{Counter, EvenOdd, KWay, Segment};
+        use fixshade::raster::span::{Classic, Gradient};
+        use $crate::desc::SpanName as N;
+        match $name {
+            N::Classic => {
+                type $S = Classic;
+                $body
+            }
+            N::Gradient => {
+                type $S = Gradient;
+                $body
+            }
+            N::EvenOdd => {
+                type $S = EvenOdd;
+                $body
+            }
+            N::KWay2 => {
+                type $S = KWay<2>;
+                $body
+            }
+            N::KWay3 => {
+                type $S = KWay<3>;
+                $body
+            }
+            N::KWay4 => {
+                type $S = KWay<4>;
+                $body
+            }
+            N::Counter => {
+                type $S = Counter;
+                $body
+            }
+            N::Segment2 => {
+                type $S = Segment<2>;
+                $body
+            }
+            N::Segment4 => {
+                type $S = Segment<4>;
+                $body
+            }
+            N::Segment8 => {
+                type $S = Segment<8>;
+                $body
+            }
+            N::Segment16 => {
+                type $S = Segment<16>;
+                $body
+            }
+            N::Segment32 => {
+                type $S = Segment<32>;
+                $body
+            }
+            N::Segment64 => {
+                type $S = Segment<64>;
+                $body
+            }
+        }
+    }};
+}
+
 fn span_dispatch<P: PixelFormat>(
     frame: &Frame<'_, '_, '_, P>,
     span: SpanName,
     fb: &mut impl fixshade::target::Target<P>,
 ) -> Result<Stats, String> {
-    let r = match span {
-        SpanName::Classic => frame.draw::<Classic, _>(fb),
-        SpanName::Gradient => frame.draw::<Gradient, _>(fb),
-    };
-    r.map_err(|e| e.to_string())
+    with_span_method!(span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
 }
 
 fn run_core<P: PixelFormat>(
@@ -283,9 +343,4 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         FormatName::Rgb888 => go::<Rgb888>(ls, runs),
         FormatName::Gray8 => go::<Gray8>(ls, runs),
     }
-}
-
-/// Names of the span methods, for help texts.
-pub fn span_names() -> [&'static str; 2] {
-    [Classic::NAME, Gradient::NAME]
 }

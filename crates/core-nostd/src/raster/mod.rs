@@ -28,6 +28,7 @@
 //! ```
 
 pub mod edge;
+pub mod parallel;
 pub mod setup;
 pub mod span;
 
@@ -147,9 +148,29 @@ where
     let y_top = first_row(t.y).max(rows.start);
     let y_mid = first_row(m.y);
     let y_bot = first_row(b.y).min(rows.end);
+    if y_top >= y_bot {
+        return 0;
+    }
+    let data = S::prepare(s);
     let mut n = 0;
-    n += walk::<P, T, S, Z, Sh>(target, s, (&t, &b), (&t, &m), y_top, y_mid.min(y_bot));
-    n += walk::<P, T, S, Z, Sh>(target, s, (&t, &b), (&m, &b), y_mid.max(y_top), y_bot);
+    n += walk::<P, T, S, Z, Sh>(
+        target,
+        s,
+        &data,
+        (&t, &b),
+        (&t, &m),
+        y_top,
+        y_mid.min(y_bot),
+    );
+    n += walk::<P, T, S, Z, Sh>(
+        target,
+        s,
+        &data,
+        (&t, &b),
+        (&m, &b),
+        y_mid.max(y_top),
+        y_bot,
+    );
     n
 }
 
@@ -158,6 +179,7 @@ where
 fn walk<P, T, S, Z, Sh>(
     target: &mut T,
     s: &Setup,
+    data: &S::Tri,
     long: (&ScreenVertex, &ScreenVertex),
     short: (&ScreenVertex, &ScreenVertex),
     ys: i32,
@@ -222,7 +244,7 @@ where
             let (crow, drow) = target.row(y);
             let (a, b) = (x0 as usize, x1 as usize);
             let depth: &mut [u16] = if Z::TEST { &mut drow[a..b] } else { &mut [] };
-            S::fill::<P, Z, Sh>(&mut crow[a..b], depth, &span, s);
+            S::fill::<P, Z, Sh>(&mut crow[a..b], depth, &span, s, data);
             covered += (x1 - x0) as u32;
         }
         let inc = if left.step() { &inc_b } else { &inc_a };

@@ -68,6 +68,10 @@ pub trait SpanMethod {
     const NAME: &'static str;
     /// True if the method needs [`Span::edges`].
     const EDGE_VALUES: bool;
+    /// Per-triangle data of the method (lane offsets, multiples of the increment).
+    type Tri;
+    /// Computes the per-triangle data once, before the first span.
+    fn prepare(tri: &Setup) -> Self::Tri;
     /// Fills `color` (exactly the span's pixels) and `depth` (the same pixels, or
     /// empty with [`NoDepth`]).
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
@@ -75,6 +79,7 @@ pub trait SpanMethod {
         depth: &mut [u16],
         span: &Span,
         tri: &Setup,
+        data: &Self::Tri,
     );
 }
 
@@ -89,6 +94,20 @@ fn pack<P: PixelFormat>(r: i32, g: i32, b: i32) -> P::Raw {
 #[inline(always)]
 fn depth_of(z: i32) -> u16 {
     ((z as u32) >> 16) as u16
+}
+
+/// The pixel stage for one pixel: depth test (strictly nearer wins), pack, store.
+/// `d` is ignored without a depth test.
+#[inline(always)]
+pub fn pack_pixel<P: PixelFormat, Z: DepthMode>(c: &mut P::Raw, d: &mut u16, v: &[i32; ATTRS]) {
+    if Z::TEST {
+        let zz = depth_of(v[3]);
+        if zz >= *d {
+            return;
+        }
+        *d = zz;
+    }
+    P::store(c, pack::<P>(v[0], v[1], v[2]));
 }
 
 /// The pixel stage: writes `color.len()` pixels starting from values `v`, stepping
@@ -155,12 +174,15 @@ pub struct Gradient;
 impl SpanMethod for Gradient {
     const NAME: &'static str = "gradient";
     const EDGE_VALUES: bool = false;
+    type Tri = ();
+    fn prepare(_: &Setup) {}
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
         depth: &mut [u16],
         span: &Span,
         tri: &Setup,
+        _: &(),
     ) {
         write_run::<P, Z, Sh>(color, depth, span.v, &tri.gx);
     }
@@ -183,11 +205,14 @@ pub struct Classic;
 impl SpanMethod for Classic {
     const NAME: &'static str = "classic";
     const EDGE_VALUES: bool = true;
+    type Tri = ();
+    fn prepare(_: &Setup) {}
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
         depth: &mut [u16],
         span: &Span,
         _tri: &Setup,
+        _: &(),
     ) {
         let e = &span.edges;
         let w = e.xr - e.xl; // > 0: the span is not empty

@@ -1,0 +1,295 @@
+//! The parallel span methods of seed 000 (§3.1–3.2) and seed 003: several pixel
+//! intensities per step instead of one.
+//!
+//! In hardware these are separate computing units; in software they are independent
+//! accumulators (instruction-level parallelism) and lanes the compiler can keep in
+//! vector registers. Every method computes the same lattice values as
+//! [`Gradient`](super::span::Gradient): pixel `x0 + i` of a span gets
+//! `v + i·Gx` (wrapping `i32`), only the order and the grouping of the additions
+//! differ. Modular integer addition is exact, so every method here produces the
+//! same pixels as `Gradient`, bit for bit; no truncation error accumulates, and the
+//! thesis' error formulas for truncated accumulators (δ = δ0 + z·2^−(V+1) for the
+//! classic and δ0 + ⌊z/2⌋·2^−(V+2) for the even/odd scheme) have nothing to bound
+//! here. The tests compare every method with `Gradient` byte for byte.
+//!
+//! Multiples of the increment (2·ΔI, 3·ΔI, 4·ΔI, …) are computed once per triangle,
+//! with shifts and at most one addition, as the seed prescribes.
+
+use super::setup::{Setup, ATTRS};
+use super::span::{pack_pixel, write_run, DepthMode, Span, SpanMethod};
+use crate::shade::Shading;
+use crate::target::PixelFormat;
+
+#[inline(always)]
+fn add(a: &[i32; ATTRS], b: &[i32; ATTRS]) -> [i32; ATTRS] {
+    [
+        a[0].wrapping_add(b[0]),
+        a[1].wrapping_add(b[1]),
+        a[2].wrapping_add(b[2]),
+        a[3].wrapping_add(b[3]),
+    ]
+}
+
+#[inline(always)]
+fn sub(a: &[i32; ATTRS], b: &[i32; ATTRS]) -> [i32; ATTRS] {
+    [
+        a[0].wrapping_sub(b[0]),
+        a[1].wrapping_sub(b[1]),
+        a[2].wrapping_sub(b[2]),
+        a[3].wrapping_sub(b[3]),
+    ]
+}
+
+/// `k·g` by shifts and adds (k ≤ 64), wrapping.
+#[inline(always)]
+fn times(g: &[i32; ATTRS], k: usize) -> [i32; ATTRS] {
+    g.map(|x| {
+        let mut acc = 0i32;
+        let mut bit = 0;
+        while (k >> bit) != 0 {
+            if (k >> bit) & 1 == 1 {
+                acc = acc.wrapping_add(x.wrapping_shl(bit));
+            }
+            bit += 1;
+        }
+        acc
+    })
+}
+
+/// Writes pixel `i` of the run with values `v` (depth test, pack, store).
+#[inline(always)]
+fn put<P: PixelFormat, Z: DepthMode>(
+    color: &mut [P::Raw],
+    depth: &mut [u16],
+    i: usize,
+    v: &[i32; ATTRS],
+) {
+    let mut unused = 0;
+    let d = if Z::TEST { &mut depth[i] } else { &mut unused };
+    pack_pixel::<P, Z>(&mut color[i], d, v);
+}
+
+/// `K` accumulators, the j-th starting at `v + j·ΔI`, each stepping by `K·ΔI`
+/// (seed 000 §3.1). `K = 2` is the even/odd scheme: on an odd-length span the second
+/// accumulator stops one step early.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct KWay<const K: usize>;
+
+/// The seed's even/odd method: one accumulator for the even pixels `x0, x0+2, …`,
+/// one for the odd ones, both stepping by 2·ΔI. The same computation as
+/// [`KWay<2>`] under its own name.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct EvenOdd;
+
+/// Lane starting offsets `j·ΔI` for j < K and the common step `K·ΔI`.
+#[derive(Copy, Clone, Debug)]
+pub struct Lanes<const K: usize> {
+    start: [[i32; ATTRS]; K],
+    step: [i32; ATTRS],
+}
+
+fn lanes<const K: usize>(s: &Setup) -> Lanes<K> {
+    Lanes {
+        start: core::array::from_fn(|j| times(&s.gx, j)),
+        step: times(&s.gx, K),
+    }
+}
+
+#[inline(always)]
+fn fill_kway<const K: usize, P: PixelFormat, Z: DepthMode, Sh: Shading>(
+    color: &mut [P::Raw],
+    depth: &mut [u16],
+    span: &Span,
+    tri: &Setup,
+    l: &Lanes<K>,
+) {
+    if !Sh::INTERPOLATE {
+        return write_run::<P, Z, Sh>(color, depth, span.v, &tri.gx);
+    }
+    let n = color.len();
+    let mut acc: [[i32; ATTRS]; K] = core::array::from_fn(|j| add(&span.v, &l.start[j]));
+    let mut i = 0;
+    while i + K <= n {
+        for (j, a) in acc.iter_mut().enumerate() {
+            put::<P, Z>(color, depth, i + j, a);
+            *a = add(a, &l.step);
+        }
+        i += K;
+    }
+    for (j, a) in acc.iter().enumerate().take(n - i) {
+        put::<P, Z>(color, depth, i + j, a);
+    }
+}
+
+impl<const K: usize> SpanMethod for KWay<K> {
+    const NAME: &'static str = match K {
+        2 => "kway2",
+        3 => "kway3",
+        4 => "kway4",
+        _ => "kway",
+    };
+    const EDGE_VALUES: bool = false;
+    type Tri = Lanes<K>;
+    fn prepare(s: &Setup) -> Lanes<K> {
+        lanes::<K>(s)
+    }
+    #[inline(always)]
+    fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+        color: &mut [P::Raw],
+        depth: &mut [u16],
+        span: &Span,
+        tri: &Setup,
+        data: &Lanes<K>,
+    ) {
+        fill_kway::<K, P, Z, Sh>(color, depth, span, tri, data);
+    }
+}
+
+impl SpanMethod for EvenOdd {
+    const NAME: &'static str = "even-odd";
+    const EDGE_VALUES: bool = false;
+    type Tri = Lanes<2>;
+    fn prepare(s: &Setup) -> Lanes<2> {
+        lanes::<2>(s)
+    }
+    #[inline(always)]
+    fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+        color: &mut [P::Raw],
+        depth: &mut [u16],
+        span: &Span,
+        tri: &Setup,
+        data: &Lanes<2>,
+    ) {
+        fill_kway::<2, P, Z, Sh>(color, depth, span, tri, data);
+    }
+}
+
+/// Two interpolators, one from each end of the span towards its middle (seed 000
+/// §3.2): the front one adds ΔI, the back one, starting at `v + (n−1)·ΔI`, subtracts it.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Counter;
+
+impl SpanMethod for Counter {
+    const NAME: &'static str = "counter";
+    const EDGE_VALUES: bool = false;
+    type Tri = ();
+    fn prepare(_: &Setup) {}
+    #[inline(always)]
+    fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+        color: &mut [P::Raw],
+        depth: &mut [u16],
+        span: &Span,
+        tri: &Setup,
+        _: &(),
+    ) {
+        if !Sh::INTERPOLATE {
+            return write_run::<P, Z, Sh>(color, depth, span.v, &tri.gx);
+        }
+        let n = color.len();
+        if n == 0 {
+            return;
+        }
+        let g = &tri.gx;
+        // (n − 1)·ΔI: n ≤ 4096, wrapping multiply is exact modulo 2^32.
+        let last = (n - 1) as i32;
+        let mut front = span.v;
+        let mut back = add(&span.v, &g.map(|x| x.wrapping_mul(last)));
+        let (mut i, mut j) = (0, n - 1);
+        while i < j {
+            put::<P, Z>(color, depth, i, &front);
+            put::<P, Z>(color, depth, j, &back);
+            front = add(&front, g);
+            back = sub(&back, g);
+            i += 1;
+            j -= 1;
+        }
+        if i == j {
+            put::<P, Z>(color, depth, i, &front);
+        }
+    }
+}
+
+/// Width of the segment that `p` units fill (seed 000 §3.2): with `k = log₂ p + 1`,
+/// `w = k + (k − 2)·((k − 1) + (k − 3)) / 2`; p = 2, 4, 8, 16, 32, 64 gives
+/// w = 2, 4, 8, 14, 22, 32.
+///
+/// ```
+/// use fixshade::raster::parallel::segment_width;
+/// assert_eq!([2, 4, 8, 16, 32, 64].map(segment_width), [2, 4, 8, 14, 22, 32]);
+/// ```
+pub const fn segment_width(p: usize) -> usize {
+    let k = p.trailing_zeros() as usize + 1;
+    if k < 3 {
+        return k; // p = 1, 2: the (k − 2) factor is zero
+    }
+    k + (k - 2) * ((k - 1) + (k - 3)) / 2
+}
+
+/// Largest segment width.
+pub const MAX_SEGMENT: usize = 32;
+
+/// `P` units fill a segment of `w = segment_width(P)` pixels at once:
+/// `I_i = I_0 + i·ΔI`, with the offsets `i·ΔI` computed once per triangle; the next
+/// segment starts `w·ΔI` further on.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Segment<const P: usize>;
+
+/// Per-triangle offsets `i·ΔI` for i < w and the segment step `w·ΔI`.
+#[derive(Copy, Clone, Debug)]
+pub struct SegmentLanes {
+    off: [[i32; ATTRS]; MAX_SEGMENT],
+    step: [i32; ATTRS],
+}
+
+impl<const P: usize> Segment<P> {
+    /// Pixels per segment.
+    pub const W: usize = segment_width(P);
+}
+
+impl<const P: usize> SpanMethod for Segment<P> {
+    const NAME: &'static str = match P {
+        2 => "segment2",
+        4 => "segment4",
+        8 => "segment8",
+        16 => "segment16",
+        32 => "segment32",
+        64 => "segment64",
+        _ => "segment",
+    };
+    const EDGE_VALUES: bool = false;
+    type Tri = SegmentLanes;
+    fn prepare(s: &Setup) -> SegmentLanes {
+        let mut off = [[0; ATTRS]; MAX_SEGMENT];
+        for i in 1..Self::W {
+            off[i] = add(&off[i - 1], &s.gx);
+        }
+        SegmentLanes {
+            off,
+            step: times(&s.gx, Self::W),
+        }
+    }
+    #[inline(always)]
+    fn fill<P2: PixelFormat, Z: DepthMode, Sh: Shading>(
+        color: &mut [P2::Raw],
+        depth: &mut [u16],
+        span: &Span,
+        tri: &Setup,
+        data: &SegmentLanes,
+    ) {
+        if !Sh::INTERPOLATE {
+            return write_run::<P2, Z, Sh>(color, depth, span.v, &tri.gx);
+        }
+        let w = Self::W;
+        let n = color.len();
+        let mut base = span.v;
+        let mut i = 0;
+        while i < n {
+            let len = w.min(n - i);
+            for (k, off) in data.off[..len].iter().enumerate() {
+                put::<P2, Z>(color, depth, i + k, &add(&base, off));
+            }
+            base = add(&base, &data.step);
+            i += w;
+        }
+    }
+}
