@@ -128,10 +128,11 @@ where
     let Some(s) = setup::setup(v) else {
         return 0;
     };
-    draw_setup::<P, T, S, Z, Sh>(target, &s)
+    S::draw::<P, T, Z, Sh>(target, &s)
 }
 
-/// Rasterizes a triangle that has been set up.
+/// Rasterizes a triangle that has been set up: walks its edges and hands every span
+/// to `S::fill`. This is the default of [`SpanMethod::draw`].
 pub fn draw_setup<P, T, S, Z, Sh>(target: &mut T, s: &Setup) -> u32
 where
     P: PixelFormat,

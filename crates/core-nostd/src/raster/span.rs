@@ -11,7 +11,7 @@
 
 use super::setup::{Setup, ATTRS};
 use crate::shade::Shading;
-use crate::target::PixelFormat;
+use crate::target::{PixelFormat, Target};
 
 /// Edge crossings of a row, for methods that interpolate between the edges.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -81,6 +81,15 @@ pub trait SpanMethod {
         tri: &Setup,
         data: &Self::Tri,
     );
+    /// Rasterizes a set-up triangle. The default walks its edges and hands each span
+    /// to [`SpanMethod::fill`] ([`super::draw_setup`]); triangle-level methods such as
+    /// the Sierpinski subdivision override it.
+    fn draw<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(target: &mut T, tri: &Setup) -> u32
+    where
+        Self: Sized,
+    {
+        super::draw_setup::<P, T, Self, Z, Sh>(target, tri)
+    }
 }
 
 /// Packs the rounded channels `r >> 16`, `g >> 16`, `b >> 16`. Channel values are in
