@@ -38,7 +38,11 @@ pub trait PixelFormat {
     fn pack(r: u32, g: u32, b: u32) -> Self::Raw;
     /// Channel integers of a stored pixel (the inverse of `pack`).
     fn unpack(p: Self::Raw) -> [u32; 3];
-    /// Stores `v` at `dst`. Formats that count writes (tests) override this.
+    /// True if [`PixelFormat::store`] is a plain assignment, so pixel loops may write
+    /// unconditionally with a select. Formats that override `store` set it to false.
+    const PLAIN_STORE: bool = true;
+    /// Stores `v` at `dst`. Formats that count writes (tests) override this, and set
+    /// `PLAIN_STORE` to false.
     #[inline(always)]
     fn store(dst: &mut Self::Raw, v: Self::Raw) {
         *dst = v;

@@ -231,19 +231,66 @@ pub const MAX_SEGMENT: usize = 32;
 /// `P` units fill a segment of `w = segment_width(P)` pixels at once:
 /// `I_i = I_0 + i·ΔI`, with the offsets `i·ΔI` computed once per triangle; the next
 /// segment starts `w·ΔI` further on.
+///
+/// In software the units are vector lanes: a segment is computed as independent
+/// lanes (structure of arrays, branch-free depth test as a select), which the
+/// compiler turns into SIMD instructions on the host and into independent
+/// instructions an in-order MCU pipeline can overlap.
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Segment<const P: usize>;
 
-/// Per-triangle offsets `i·ΔI` for i < w and the segment step `w·ΔI`.
+/// Per-triangle lane offsets `i·ΔI` for i < w, one array per attribute, and the
+/// segment step `w·ΔI`.
 #[derive(Copy, Clone, Debug)]
 pub struct SegmentLanes {
-    off: [[i32; ATTRS]; MAX_SEGMENT],
+    off: [[i32; MAX_SEGMENT]; ATTRS],
     step: [i32; ATTRS],
 }
 
 impl<const P: usize> Segment<P> {
     /// Pixels per segment.
     pub const W: usize = segment_width(P);
+}
+
+/// One segment: lane `k` gets `base + off[·][k]`. Branch-free when the format's
+/// store is a plain store.
+#[inline(always)]
+fn segment_block<P: PixelFormat, Z: DepthMode>(
+    color: &mut [P::Raw],
+    depth: &mut [u16],
+    base: &[i32; ATTRS],
+    off: &[[i32; MAX_SEGMENT]; ATTRS],
+) {
+    let n = color.len().min(MAX_SEGMENT);
+    let (or, og, ob, oz) = (&off[0][..n], &off[1][..n], &off[2][..n], &off[3][..n]);
+    if Z::TEST {
+        let depth = &mut depth[..n];
+        for k in 0..n {
+            let r = base[0].wrapping_add(or[k]);
+            let g = base[1].wrapping_add(og[k]);
+            let b = base[2].wrapping_add(ob[k]);
+            let z = ((base[3].wrapping_add(oz[k]) as u32) >> 16) as u16;
+            let px = P::pack((r >> 16) as u32, (g >> 16) as u32, (b >> 16) as u32);
+            let keep = z < depth[k];
+            if P::PLAIN_STORE {
+                depth[k] = if keep { z } else { depth[k] };
+                color[k] = if keep { px } else { color[k] };
+            } else if keep {
+                depth[k] = z;
+                P::store(&mut color[k], px);
+            }
+        }
+    } else {
+        for k in 0..n {
+            let r = base[0].wrapping_add(or[k]);
+            let g = base[1].wrapping_add(og[k]);
+            let b = base[2].wrapping_add(ob[k]);
+            P::store(
+                &mut color[k],
+                P::pack((r >> 16) as u32, (g >> 16) as u32, (b >> 16) as u32),
+            );
+        }
+    }
 }
 
 impl<const P: usize> SpanMethod for Segment<P> {
@@ -259,9 +306,11 @@ impl<const P: usize> SpanMethod for Segment<P> {
     const EDGE_VALUES: bool = false;
     type Tri = SegmentLanes;
     fn prepare(s: &Setup) -> SegmentLanes {
-        let mut off = [[0; ATTRS]; MAX_SEGMENT];
-        for i in 1..Self::W {
-            off[i] = add(&off[i - 1], &s.gx);
+        let mut off = [[0i32; MAX_SEGMENT]; ATTRS];
+        for (a, lane) in off.iter_mut().enumerate() {
+            for i in 1..Self::W {
+                lane[i] = lane[i - 1].wrapping_add(s.gx[a]);
+            }
         }
         SegmentLanes {
             off,
@@ -284,12 +333,11 @@ impl<const P: usize> SpanMethod for Segment<P> {
         let mut base = span.v;
         let mut i = 0;
         while i < n {
-            let len = w.min(n - i);
-            for (k, off) in data.off[..len].iter().enumerate() {
-                put::<P2, Z>(color, depth, i + k, &add(&base, off));
-            }
+            let end = (i + w).min(n);
+            let d: &mut [u16] = if Z::TEST { &mut depth[i..end] } else { &mut [] };
+            segment_block::<P2, Z>(&mut color[i..end], d, &base, &data.off);
             base = add(&base, &data.step);
-            i += w;
+            i = end;
         }
     }
 }

@@ -49,6 +49,7 @@ impl PixelFormat for Mark {
     const GRAY: bool = true;
     const BYTES: usize = 1;
     const NAME: &'static str = "mark";
+    const PLAIN_STORE: bool = false;
     fn pack(_: u32, _: u32, _: u32) -> u8 {
         0
     }
