@@ -95,6 +95,7 @@ impl PixelFormat for Count {
     fn unpack(p: u16) -> [u32; 3] {
         [p as u32; 3]
     }
+    const PLAIN_STORE: bool = false;
     fn store(dst: &mut u16, _: u16) {
         *dst = dst.saturating_add(1);
     }
@@ -290,7 +291,7 @@ pub fn project(desc: &SceneDesc, meshes: &[MeshData]) -> Projected {
             .iter()
             .map(|p| {
                 let c = mat_vec(&m, [p[0], p[1], p[2], 1.0]);
-                if !(c[3] > 0.0) {
+                if c[3].is_nan() || c[3] <= 0.0 {
                     return None;
                 }
                 let sx = (c[0] / c[3] + 1.0) / 2.0 * w;

@@ -143,13 +143,27 @@ impl Viewport {
         if w <= 0 || z < -w || z > w {
             return None;
         }
-        let sx = round_div(8 * self.width as i64 * (x + w), w);
-        let sy = round_div(8 * self.height as i64 * (w - y), w);
+        let (sx, sy, sz) = self.divide(x, y, z, w);
         if sx.abs() >= GUARD as i64 || sy.abs() >= GUARD as i64 {
             return None;
         }
-        let sz = (z + w) * (DEPTH_SCALE >> 1) / w;
         Some((sx as i32, sy as i32, sz as u32))
+    }
+
+    /// The perspective division of normalised coordinates (|·| < 2³⁰, `w > 0`,
+    /// `−w ≤ z ≤ w`) with one reciprocal `r = ⌊2⁶² / w⌋` instead of three divisions.
+    /// The numerators `8·W·(x + w)` are below 2⁴⁶ and `(z + w)·65534·2¹⁵` below 2⁶²;
+    /// their products with `r` ≤ 2⁶² are below 2¹²⁴ and fit `i128`. The quotient's error is below
+    /// 2⁻¹⁶ of a unit, so the rounding to 1/16 pixel differs from exact division
+    /// only for values within 2⁻¹⁶ of a half.
+    #[inline]
+    pub(crate) fn divide(&self, x: i64, y: i64, z: i64, w: i64) -> (i64, i64, i64) {
+        let r = ((1u64 << 62) / w as u64) as i128;
+        let round = |n: i64| ((n as i128 * r + (1i128 << 61)) >> 62) as i64;
+        let sx = round(8 * self.width as i64 * (x + w));
+        let sy = round(8 * self.height as i64 * (w - y));
+        let sz = ((((z + w) * (DEPTH_SCALE >> 1)) as i128 * r) >> 62) as i64;
+        (sx, sy, sz)
     }
 }
 
@@ -164,10 +178,4 @@ pub fn normalize_clip(c: [i64; 4]) -> [i64; 4] {
     } else {
         c
     }
-}
-
-/// `round(n / d)` for `d > 0`, halves rounded up.
-#[inline]
-fn round_div(n: i64, d: i64) -> i64 {
-    (2 * n + d).div_euclid(2 * d)
 }

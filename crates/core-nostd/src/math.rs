@@ -23,37 +23,14 @@ pub const ONE_Q32: i64 = 1 << 32;
 /// One in Q2.30.
 pub const ONE_Q30: i32 = 1 << 30;
 
-/// Floor of the square root of a `u128`.
+/// Floor of the square root of a `u128` (the core library's exact integer root).
 pub const fn isqrt_u128(n: u128) -> u128 {
-    if n < 2 {
-        return n;
-    }
-    // Newton iteration from a power of two above the root; decreasing, stops at floor.
-    let bits = 128 - n.leading_zeros();
-    let mut x: u128 = 1 << bits.div_ceil(2);
-    loop {
-        let y = (x + n / x) >> 1;
-        if y >= x {
-            return x;
-        }
-        x = y;
-    }
+    n.isqrt()
 }
 
-/// Floor of the square root of a `u64`.
+/// Floor of the square root of a `u64` (the core library's exact integer root).
 pub const fn isqrt_u64(n: u64) -> u64 {
-    if n < 2 {
-        return n;
-    }
-    let bits = 64 - n.leading_zeros();
-    let mut x: u64 = 1 << bits.div_ceil(2);
-    loop {
-        let y = (x + n / x) >> 1;
-        if y >= x {
-            return x;
-        }
-        x = y;
-    }
+    n.isqrt()
 }
 
 /// Q.32 product of two Q.32 values (`i128` intermediate; the result saturates).
@@ -555,7 +532,10 @@ pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     if len == 0 {
         return None;
     }
-    let d = |c: i64| (((c << 30) + if c >= 0 { len / 2 } else { -len / 2 }) / len) as i32;
+    // One reciprocal instead of three divisions: inv = ⌊2^61 / len⌋ < 2^32, and
+    // |c|·inv < 2^30·2^32 fits i64; the result is within one unit of c·2^30/len.
+    let inv = (1i64 << 61) / len;
+    let d = |c: i64| ((c * inv + (1 << 30)) >> 31) as i32;
     Some([d(x), d(y), d(z)])
 }
 

@@ -55,7 +55,7 @@
 use core::marker::PhantomData;
 
 use crate::clip::{clip_triangle, is_front, ClipVertex};
-use crate::geometry::{normalize_clip, Viewport, DEPTH_SCALE};
+use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{normalize_to_q30, Affine3, ClipMatrix, ONE_Q30};
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
@@ -355,7 +355,20 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             for tri in obj.mesh.triangles() {
                 st.triangles += 1;
-                let t = tri.map(|i| verts[i as usize]);
+                let mut t = tri.map(|i| verts[i as usize]);
+                if S::SNAPS {
+                    // A method that moves vertices is culled on the moved ones. The
+                    // vertex stage lit only vertices of triangles that were drawable
+                    // before the move: a sliver that turns front by snapping has unlit
+                    // vertices and is dropped (a documented coverage exception).
+                    if t.iter().any(|v| v.flags & NEEDED == 0) {
+                        st.culled += 1;
+                        continue;
+                    }
+                    for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
+                        v.s = S::snap(v.s);
+                    }
+                }
                 let mut s = [t[0].s, t[1].s, t[2].s];
                 if !Sh::INTERPOLATE {
                     let c = s[2].c;
@@ -427,10 +440,11 @@ fn project_clamped(vp: &Viewport, c: [i64; 4]) -> Option<(i32, i32, u32)> {
     if w <= 0 {
         return None;
     }
-    let z = z.clamp(-w, w);
     let lim = (GUARD - 1) as i64;
-    let sx = ((2 * 8 * vp.width as i64 * (x + w) + w).div_euclid(2 * w)).clamp(-lim, lim);
-    let sy = ((2 * 8 * vp.height as i64 * (w - y) + w).div_euclid(2 * w)).clamp(-lim, lim);
-    let sz = (z + w) * (DEPTH_SCALE >> 1) / w;
-    Some((sx as i32, sy as i32, sz as u32))
+    let (sx, sy, sz) = vp.divide(x, y, z.clamp(-w, w), w);
+    Some((
+        sx.clamp(-lim, lim) as i32,
+        sy.clamp(-lim, lim) as i32,
+        sz as u32,
+    ))
 }

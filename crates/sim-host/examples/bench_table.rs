@@ -21,6 +21,7 @@ use std::time::Instant;
 
 use fixshade::fixed::Angle;
 use fixshade::raster::parallel::{Counter, EvenOdd, KWay, Segment};
+use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
 use fixshade::raster::span::{Classic, Gradient, SpanMethod};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::scene::Scene;
@@ -60,6 +61,8 @@ const METHODS: &[(&str, FrameFn)] = &[
     (Segment::<16>::NAME, frame::<Segment<16>>),
     (Segment::<32>::NAME, frame::<Segment<32>>),
     (Segment::<64>::NAME, frame::<Segment<64>>),
+    (Sierpinski::NAME, frame::<Sierpinski>),
+    (SierpinskiExact::NAME, frame::<SierpinskiExact>),
 ];
 
 const SEGMENTS: [(u32, u32); 3] = [(32, 20), (64, 40), (128, 80)];

@@ -204,6 +204,10 @@ pub enum SpanName {
     Segment32,
     /// 64 units filling segments of 32 pixels.
     Segment64,
+    /// Sierpinski subdivision with vertices snapped to even pixels (seed 000 §3.3).
+    Sierpinski,
+    /// Sierpinski subdivision only where it is exact (even vertex deltas).
+    SierpinskiExact,
 }
 
 /// A whole scene as a scene file or a built-in scene describes it.
@@ -300,5 +304,59 @@ impl Named for SpanName {
     const ALL: &'static [(Self, &'static str)] = &[
         (SpanName::Classic, "classic"),
         (SpanName::Gradient, "gradient"),
+        (SpanName::EvenOdd, "even-odd"),
+        (SpanName::KWay2, "kway2"),
+        (SpanName::KWay3, "kway3"),
+        (SpanName::KWay4, "kway4"),
+        (SpanName::Counter, "counter"),
+        (SpanName::Segment2, "segment2"),
+        (SpanName::Segment4, "segment4"),
+        (SpanName::Segment8, "segment8"),
+        (SpanName::Segment16, "segment16"),
+        (SpanName::Segment32, "segment32"),
+        (SpanName::Segment64, "segment64"),
+        (SpanName::Sierpinski, "sierpinski"),
+        (SpanName::SierpinskiExact, "sierpinski-exact"),
     ];
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn round_trips<T: Named + PartialEq + std::fmt::Debug>(variants: &[T]) {
+        for v in variants {
+            assert_eq!(T::parse(v.name()), Ok(*v), "{v:?}");
+        }
+        assert_eq!(T::ALL.len(), variants.len(), "{} names missing", T::WHAT);
+    }
+
+    #[test]
+    fn every_variant_has_a_name() {
+        use SpanName::*;
+        round_trips(&[
+            Classic,
+            Gradient,
+            EvenOdd,
+            KWay2,
+            KWay3,
+            KWay4,
+            Counter,
+            Segment2,
+            Segment4,
+            Segment8,
+            Segment16,
+            Segment32,
+            Segment64,
+            Sierpinski,
+            SierpinskiExact,
+        ]);
+        round_trips(&[ShadingName::Flat, ShadingName::Gouraud]);
+        round_trips(&[
+            FormatName::Rgb565Le,
+            FormatName::Rgb565Be,
+            FormatName::Rgb888,
+            FormatName::Gray8,
+        ]);
+    }
 }

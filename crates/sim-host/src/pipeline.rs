@@ -10,7 +10,7 @@ use crate::desc::{FormatName, MeshData, SceneDesc, SpanName};
 use crate::image::{channel_max, expand, Image};
 use crate::reference::{render_reference, RefOptions};
 use crate::{mesh, scene_file};
-use fixshade::raster::span::{Gradient, NoDepth};
+use fixshade::raster::span::NoDepth;
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::shade::Flat;
 use fixshade::target::{Framebuffer, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
@@ -137,6 +137,7 @@ pub struct Render {
 macro_rules! with_span_method {
     ($name:expr, $S:ident => $body:expr) => {{
         use fixshade::raster::parallel::{Counter, EvenOdd, KWay, Segment};
+        use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
         use fixshade::raster::span::{Classic, Gradient};
         use $crate::desc::SpanName as N;
         match $name {
@@ -190,6 +191,14 @@ macro_rules! with_span_method {
             }
             N::Segment64 => {
                 type $S = Segment<64>;
+                $body
+            }
+            N::Sierpinski => {
+                type $S = Sierpinski;
+                $body
+            }
+            N::SierpinskiExact => {
+                type $S = SierpinskiExact;
                 $body
             }
         }
@@ -262,8 +271,9 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     let frame = Frame::<Mask>::prepare(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
     let mut mask = vec![0u8; w as usize * h as usize];
     let mut fb = Framebuffer::<Mask>::new(&mut mask, None, w, h).map_err(|e| e.to_string())?;
-    frame
-        .draw_with::<Gradient, NoDepth, Flat, _>(&mut fb)
+    // The same span method as the colour pass: methods that move vertices
+    // (sierpinski) change coverage too.
+    with_span_method!(d.span, S => frame.draw_with::<S, NoDepth, Flat, _>(&mut fb))
         .map_err(|e| e.to_string())?;
     Ok(mask.iter().map(|m| *m != 0).collect())
 }

@@ -46,21 +46,34 @@ impl EdgeStepper {
     /// pixel row `y`.
     #[inline]
     pub fn new(top: (i32, i32), bottom: (i32, i32), y: i32) -> EdgeStepper {
-        let dx = (bottom.0 - top.0) as i64;
-        let dy = (bottom.1 - top.1) as i64;
-        let d = 16 * dy;
-        let n = top.0 as i64 * dy + dx * (16 * y as i64 + 8 - top.1 as i64) - 8 * dy;
-        let q = ceil_div(n, d);
-        let r = q * d - n;
+        let dx = bottom.0 - top.0;
+        let dy = bottom.1 - top.1;
+        let d = 16 * dy; // < 2^21
+                         // N relative to the whole pixel left of the top vertex, so that near the top
+                         // vertex it fits i32 and an i32 division does: q = qx + ⌈N' / d⌉ with
+                         // N' = fx·dy + dx·(yc − y0) − 8·dy, fx = x0 − 16·qx in [0, 16).
+        let qx = top.0 >> 4;
+        let fx = (top.0 & 15) as i64;
+        let n = fx * dy as i64 + dx as i64 * (16 * y as i64 + 8 - top.1 as i64) - 8 * dy as i64;
+        // |n| < 2^30 keeps q·d ≤ |n| + d below 2^31 in the i32 path.
+        let (q, r) = if n.unsigned_abs() < 1 << 30 {
+            let n32 = n as i32;
+            let q = -((-n32).div_euclid(d));
+            (q, q * d - n32)
+        } else {
+            let q = ceil_div(n, d as i64);
+            (q as i32, (q * d as i64 - n) as i32)
+        };
+        // 16·|dx| < 2^21: the step division fits i32.
         let step = 16 * dx;
         let a = step.div_euclid(d);
         let b = step - a * d;
         EdgeStepper {
-            q: q as i32,
-            r: r as i32,
-            d: d as i32,
-            a: a as i32,
-            b: b as i32,
+            q: qx + q,
+            r,
+            d,
+            a,
+            b,
         }
     }
 

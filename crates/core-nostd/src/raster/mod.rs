@@ -30,6 +30,7 @@
 pub mod edge;
 pub mod parallel;
 pub mod setup;
+pub mod sierpinski;
 pub mod span;
 
 use edge::{first_row, EdgeStepper};
@@ -103,12 +104,6 @@ impl EdgeAttrs {
     }
 }
 
-/// Exact edge crossing in pixel-centre coordinates, Q.16: `q − r/d`.
-#[inline]
-fn crossing(e: &EdgeStepper) -> i64 {
-    ((e.q as i64) << 16) - (((e.r as i64) << 16) / e.d as i64)
-}
-
 /// Rasterizes one triangle into `target`. Returns the number of pixels covered
 /// (before the depth test) inside the target. Zero-area triangles draw nothing.
 ///
@@ -153,12 +148,15 @@ where
         return 0;
     }
     let data = S::prepare(s);
+    // The long edge spans every row: one stepper serves both halves (the first walk
+    // leaves it on the row where the second begins).
+    let mut long = EdgeStepper::new((t.x, t.y), (b.x, b.y), y_top);
     let mut n = 0;
     n += walk::<P, T, S, Z, Sh>(
         target,
         s,
         &data,
-        (&t, &b),
+        (&mut long, (&t, &b)),
         (&t, &m),
         y_top,
         y_mid.min(y_bot),
@@ -167,7 +165,7 @@ where
         target,
         s,
         &data,
-        (&t, &b),
+        (&mut long, (&t, &b)),
         (&m, &b),
         y_mid.max(y_top),
         y_bot,
@@ -175,13 +173,14 @@ where
     n
 }
 
-/// Walks rows `[ys, ye)` between the long edge and one short edge.
+/// Walks rows `[ys, ye)` between the long edge (its stepper positioned on row `ys`)
+/// and one short edge.
 #[inline(always)]
 fn walk<P, T, S, Z, Sh>(
     target: &mut T,
     s: &Setup,
     data: &S::Tri,
-    long: (&ScreenVertex, &ScreenVertex),
+    (el, long): (&mut EdgeStepper, (&ScreenVertex, &ScreenVertex)),
     short: (&ScreenVertex, &ScreenVertex),
     ys: i32,
     ye: i32,
@@ -196,13 +195,12 @@ where
     if ys >= ye {
         return 0;
     }
-    // Non-empty rows imply dy > 0 on both edges (rows lie between their end rows).
-    let el = EdgeStepper::new((long.0.x, long.0.y), (long.1.x, long.1.y), ys);
-    let es = EdgeStepper::new((short.0.x, short.0.y), (short.1.x, short.1.y), ys);
-    let ((mut left, lv), (mut right, rv)) = if s.mid_left {
-        ((es, short), (el, long))
+    // Non-empty rows imply dy > 0 on the short edge (rows lie between its end rows).
+    let mut es = EdgeStepper::new((short.0.x, short.0.y), (short.1.x, short.1.y), ys);
+    let ((left, lv), (right, rv)) = if s.mid_left {
+        ((&mut es, short), (el, long))
     } else {
-        ((el, long), (es, short))
+        ((el, long), (&mut es, short))
     };
     let (mut la, mut ra) = if S::EDGE_VALUES {
         (
@@ -228,8 +226,8 @@ where
             let v = core::array::from_fn(|k| vl[k].wrapping_add(skip.wrapping_mul(s.gx[k])));
             let edges = match (&la, &ra) {
                 (Some(l), Some(r)) => EdgeValues {
-                    xl: crossing(&left),
-                    xr: crossing(&right),
+                    left: *left,
+                    right: *right,
                     il: l.get(),
                     ir: r.get(),
                 },

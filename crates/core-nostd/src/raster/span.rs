@@ -9,21 +9,44 @@
 //! shared by every method: depth test against the u16 buffer (strictly nearer wins),
 //! pack to the pixel format, store.
 
+use super::edge::EdgeStepper;
 use super::setup::{Setup, ATTRS};
+use super::ScreenVertex;
 use crate::shade::Shading;
 use crate::target::{PixelFormat, Target};
 
 /// Edge crossings of a row, for methods that interpolate between the edges.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+///
+/// The crossings are exact rationals: an edge stepper at row `y` crosses the row at
+/// `q − r/d` in pixel-centre coordinates (pixel x has its centre at x).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct EdgeValues {
-    /// Left crossing in pixel-centre coordinates (pixel x has its centre at x), Q.16.
-    pub xl: i64,
-    /// Right crossing, Q.16.
-    pub xr: i64,
+    /// The left edge's stepper on this row.
+    pub left: EdgeStepper,
+    /// The right edge's stepper on this row.
+    pub right: EdgeStepper,
     /// Attribute values at the left crossing (true values, bias included).
     pub il: [i64; ATTRS],
     /// Attribute values at the right crossing.
     pub ir: [i64; ATTRS],
+}
+
+impl Default for EdgeValues {
+    fn default() -> Self {
+        let e = EdgeStepper {
+            q: 0,
+            r: 0,
+            d: 1,
+            a: 0,
+            b: 0,
+        };
+        EdgeValues {
+            left: e,
+            right: e,
+            il: [0; ATTRS],
+            ir: [0; ATTRS],
+        }
+    }
 }
 
 /// One row's worth of work for a span method.
@@ -68,6 +91,14 @@ pub trait SpanMethod {
     const NAME: &'static str;
     /// True if the method needs [`Span::edges`].
     const EDGE_VALUES: bool;
+    /// True if the method moves vertices ([`SpanMethod::snap`] is not the identity).
+    const SNAPS: bool = false;
+    /// Where the method puts a screen vertex before culling and setup (the snapped
+    /// Sierpinski variant moves vertices to even pixels). The identity by default.
+    #[inline(always)]
+    fn snap(v: ScreenVertex) -> ScreenVertex {
+        v
+    }
     /// Per-triangle data of the method (lane offsets, multiples of the increment).
     type Tri;
     /// Computes the per-triangle data once, before the first span.
@@ -84,7 +115,10 @@ pub trait SpanMethod {
     /// Rasterizes a set-up triangle. The default walks its edges and hands each span
     /// to [`SpanMethod::fill`] ([`super::draw_setup`]); triangle-level methods such as
     /// the Sierpinski subdivision override it.
-    fn draw<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(target: &mut T, tri: &Setup) -> u32
+    fn draw<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        tri: &Setup,
+    ) -> u32
     where
         Self: Sized,
     {
@@ -201,15 +235,29 @@ impl SpanMethod for Gradient {
 /// edges, and each span divides the difference of its end values by its width,
 /// `ΔI = (I_R − I_L) / (x_R − x_L)`, then pre-steps to the first pixel centre.
 ///
-/// Error: the edge values are stepped with increments rounded to 2⁻¹⁶ of a unit
-/// (≤ 4096 rows: below 0.001 output steps), and the per-span increment is truncated
-/// to one unit (≤ 4096 pixels: below 0.07 output steps); the first pixel is an
-/// interpolation with weight in [0, 1], so no error is amplified on narrow spans.
-/// The total stays within the same 1-step bound as [`Gradient`]. An increment that
-/// does not fit `i32` (a span narrower than 1/128 pixel, which holds one pixel) is
-/// wrapped, which is harmless because it is never used.
+/// The span's ends are the exact rational edge crossings `q − r/d`, so its width
+/// `W = (x_R − x_L)` and the first pixel's weight `t = (x0 − x_L)/W ∈ [0, 1]` are
+/// exact rationals; each span takes two divisions, `t` and `1/W` with 40 fraction
+/// bits, shared by the attributes. Error: the edge values are stepped with
+/// increments rounded to 2⁻¹⁶ of a unit (≤ 4096 rows: below 0.001 output steps);
+/// `t` and `1/W` are within 2⁻⁴⁰ (relative), which costs below 2⁻⁶ of a unit at the
+/// first pixel and below 2⁻⁷ per pixel after it (0.0005 output steps over 4096
+/// pixels); the per-pixel increment is then truncated to one unit (below 0.07 output
+/// steps over 4096 pixels). The total stays within the same 1-step bound as
+/// [`Gradient`], however narrow the span: rounding the crossings to a fixed grid
+/// instead would be amplified by `|ΔI|/W` on spans much narrower than a pixel.
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Classic;
+
+/// `n / d` for `0 ≤ n`, `0 < d`, in u64 when both fit (one hardware division on
+/// 64-bit hosts) and in u128 otherwise.
+#[inline]
+fn div_wide(n: u128, d: u128) -> u128 {
+    match (u64::try_from(n), u64::try_from(d)) {
+        (Ok(n), Ok(d)) => (n / d) as u128,
+        _ => n / d,
+    }
+}
 
 impl SpanMethod for Classic {
     const NAME: &'static str = "classic";
@@ -224,18 +272,26 @@ impl SpanMethod for Classic {
         _: &(),
     ) {
         let e = &span.edges;
-        let w = e.xr - e.xl; // > 0: the span is not empty
-        if w <= 0 {
-            return;
+        let (l, r) = (&e.left, &e.right);
+        let (dl, dr) = (l.d as i128, r.d as i128);
+        // In units of 1/(dl·dr) pixel (dl, dr < 2^21, |q| < 2^13): below 2^56.
+        // x0 − x_L = (x0 − q_L) + r_L/d_L;  x_R − x_L = (q_R − q_L) + r_L/d_L − r_R/d_R.
+        let dist = (((span.x0 - l.q) as i128) * dl + l.r as i128) * dr;
+        let width = (((r.q - l.q) as i128) * dl + l.r as i128) * dr - r.r as i128 * dl;
+        if width <= 0 || dist < 0 {
+            return; // the span is empty: no pixel centre lies between the crossings
         }
-        let t = ((span.x0 as i64) << 16) - e.xl; // in [0, w]
+        // t and 1/W in Q.40: dist ≤ width, so t40 ≤ 2^40; dist << 40 < 2^96.
+        let t40 = div_wide((dist as u128) << 40, width as u128) as i128;
+        let inv_w40 = div_wide(((dl * dr) as u128) << 40, width as u128) as i128;
         let mut v = [0i32; ATTRS];
         let mut g = [0i32; ATTRS];
         for k in 0..ATTRS {
-            let diff = e.ir[k] - e.il[k]; // |diff| < 2^33
-                                          // diff·t < 2^33·2^29 = 2^62; diff << 16 < 2^49.
-            v[k] = (e.il[k] + diff * t / w) as i32; // modulo 2^32 (depth is unsigned)
-            g[k] = ((diff << 16) / w) as i32;
+            // |diff| < 2^33; diff·t40 < 2^74 and diff·inv_w40 < 2^33·2^82 fit i128.
+            let diff = (e.ir[k] - e.il[k]) as i128;
+            v[k] = (e.il[k] as i128 + ((diff * t40) >> 40)) as i32; // modulo 2^32 (depth is unsigned)
+                                                                    // Wraps only when W < 1/128 pixel, where the span holds one pixel and g is unused.
+            g[k] = ((diff * inv_w40) >> 40) as i32;
         }
         write_run::<P, Z, Sh>(color, depth, v, &g);
     }

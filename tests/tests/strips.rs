@@ -1,0 +1,207 @@
+//! Strip rendering gives the same bytes as rendering the whole frame.
+//!
+//! * The figures through the host pipeline, both span methods, strips of 1, 7, 16
+//!   and 240 rows against the whole frame.
+//! * Random overlapping Gouraud triangles with a depth test, drawn directly into
+//!   strips whose boundaries cut exactly through vertex rows (the row whose centre
+//!   a vertex lies on or just above, and its neighbours) and through rows in
+//!   between, against one full framebuffer: colour and depth byte for byte.
+
+use fixshade::raster::edge::first_row;
+use fixshade::raster::span::{Classic, DepthTest, Gradient, SpanMethod};
+use fixshade::raster::{draw_triangle, ScreenVertex};
+use fixshade::shade::Gouraud;
+use fixshade::target::{Framebuffer, Rgb888, Strip};
+use fixshade_sim::desc::SpanName;
+use fixshade_sim::pipeline::{self, load_arg};
+use fixshade_tests::*;
+
+#[test]
+fn figures_strips_equal_whole_frame() {
+    for name in FIGURES {
+        let mut ls = load_arg(name).unwrap();
+        for span in [SpanName::Gradient, SpanName::Classic] {
+            ls.desc.span = span;
+            let whole = pipeline::render(&ls, None).unwrap();
+            assert!(whole.image.covered_count() > 5000);
+            for rows in [1, 7, 16, 240] {
+                let strips = pipeline::render(&ls, Some(rows)).unwrap();
+                let differ = whole
+                    .bytes
+                    .iter()
+                    .zip(&strips.bytes)
+                    .filter(|(a, b)| a != b)
+                    .count();
+                assert_eq!(whole.bytes.len(), strips.bytes.len());
+                assert_eq!(
+                    differ, 0,
+                    "{name} {span:?}: strips of {rows} rows differ from the whole frame in {differ} bytes"
+                );
+            }
+        }
+    }
+}
+
+const W: u32 = 160;
+const H: u32 = 120;
+
+fn draw_all<S: SpanMethod, T: fixshade::target::Target<Rgb888>>(
+    t: &mut T,
+    tris: &[[ScreenVertex; 3]],
+) {
+    for v in tris {
+        draw_triangle::<Rgb888, _, S, DepthTest, Gouraud>(t, *v);
+    }
+}
+
+/// Whole frame: colour and depth.
+fn whole<S: SpanMethod>(tris: &[[ScreenVertex; 3]]) -> (Vec<[u8; 3]>, Vec<u16>) {
+    let n = (W * H) as usize;
+    let mut c = vec![[1, 2, 3]; n];
+    let mut d = vec![0xFFFF; n];
+    let mut fb = Framebuffer::<Rgb888>::new(&mut c, Some(&mut d), W, H).unwrap();
+    draw_all::<S, _>(&mut fb, tris);
+    (c, d)
+}
+
+/// The frame assembled from strips `[cuts[i], cuts[i + 1])`.
+fn stripped<S: SpanMethod>(tris: &[[ScreenVertex; 3]], cuts: &[u32]) -> (Vec<[u8; 3]>, Vec<u16>) {
+    let n = (W * H) as usize;
+    let mut c = vec![[9, 9, 9]; n];
+    let mut d = vec![0; n];
+    for s in cuts.windows(2) {
+        let (y0, h) = (s[0], s[1] - s[0]);
+        let m = (W * h) as usize;
+        let mut sc = vec![[7, 7, 7]; m];
+        let mut sd = vec![0; m];
+        let mut strip = Strip::<Rgb888>::new(&mut sc, Some(&mut sd), W, H, y0, h).unwrap();
+        strip.clear([1, 2, 3]);
+        draw_all::<S, _>(&mut strip, tris);
+        let at = (y0 * W) as usize;
+        c[at..at + m].copy_from_slice(&sc);
+        d[at..at + m].copy_from_slice(&sd);
+    }
+    (c, d)
+}
+
+fn random_scene(rng: &mut Rng) -> Vec<[ScreenVertex; 3]> {
+    let k = rng.range(1, 12) as usize;
+    (0..k)
+        .map(|_| {
+            let (cx, cy) = (
+                rng.int(-200, 16 * W as i32 + 200),
+                rng.int(-200, 16 * H as i32 + 200),
+            );
+            let s = *rng.pick(&[40, 300, 1200, 3000]);
+            std::array::from_fn(|_| {
+                let y = cy + rng.int(-s, s);
+                // Vertex rows: on a row centre, on a row edge, or anywhere.
+                let y = match rng.below(3) {
+                    0 => (y & !15) + 8,
+                    1 => y & !15,
+                    _ => y,
+                };
+                ScreenVertex {
+                    x: cx + rng.int(-s, s),
+                    y,
+                    z: rng.below(65534 << 16) as u32,
+                    c: std::array::from_fn(|_| rng.int(0, 255 << 16)),
+                }
+            })
+        })
+        .collect()
+}
+
+/// Strip boundaries: every row a vertex starts (its first row, and the rows just
+/// before and after), plus a few random ones.
+fn cuts_through_vertices(rng: &mut Rng, tris: &[[ScreenVertex; 3]]) -> Vec<u32> {
+    let mut cuts = vec![0, H];
+    for v in tris.iter().flatten() {
+        let r = first_row(v.y);
+        for c in [r - 1, r, r + 1] {
+            if c > 0 && c < H as i32 && rng.chance(2, 3) {
+                cuts.push(c as u32);
+            }
+        }
+    }
+    for _ in 0..3 {
+        cuts.push(rng.int(1, H as i32 - 1) as u32);
+    }
+    cuts.sort_unstable();
+    cuts.dedup();
+    cuts
+}
+
+fn compare_scene<S: SpanMethod>(i: usize, tris: &[[ScreenVertex; 3]], cuts: &[u32]) -> usize {
+    let (wc, wd) = whole::<S>(tris);
+    let (sc, sd) = stripped::<S>(tris, cuts);
+    let bad: Vec<usize> = (0..wc.len())
+        .filter(|&k| wc[k] != sc[k] || wd[k] != sd[k])
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "[{}] scene {i} cut at rows {cuts:?}: {} pixels differ, first at ({}, {}): whole {:?}/{} strips {:?}/{}\n{tris:?}",
+        S::NAME,
+        bad.len(),
+        bad[0] % W as usize,
+        bad[0] / W as usize,
+        wc[bad[0]],
+        wd[bad[0]],
+        sc[bad[0]],
+        sd[bad[0]]
+    );
+    wc.iter().filter(|p| **p != [1, 2, 3]).count()
+}
+
+#[test]
+fn strips_cut_through_vertex_rows() {
+    let mut rng = Rng::new(0x57_1195);
+    let n = scaled(800, 400);
+    let (mut covered, mut strips) = (0, 0);
+    for i in 0..n {
+        let tris = random_scene(&mut rng);
+        let cuts = cuts_through_vertices(&mut rng, &tris);
+        strips += cuts.len() - 1;
+        covered += compare_scene::<Gradient>(i, &tris, &cuts);
+        compare_scene::<Classic>(i, &tris, &cuts);
+        // One-row strips everywhere.
+        if i % 10 == 0 {
+            let all: Vec<u32> = (0..=H).collect();
+            compare_scene::<Gradient>(i, &tris, &all);
+            compare_scene::<Classic>(i, &tris, &all);
+        }
+    }
+    println!("strips: {n} scenes, {strips} strips, {covered} covered pixels compared (×2 methods)");
+    assert!(covered > 1000);
+}
+
+/// The comparison is not a tautology: a strip drawn with one triangle left out
+/// differs from the whole frame.
+#[test]
+fn strip_comparison_detects_a_difference() {
+    let tris = [[
+        ScreenVertex {
+            x: 8,
+            y: 8,
+            z: 0,
+            c: [255 << 16, 0, 0],
+        },
+        ScreenVertex {
+            x: 8,
+            y: 16 * 100 + 8,
+            z: 0,
+            c: [0, 255 << 16, 0],
+        },
+        ScreenVertex {
+            x: 16 * 100,
+            y: 8,
+            z: 0,
+            c: [0, 0, 255 << 16],
+        },
+    ]];
+    let (wc, _) = whole::<Gradient>(&tris);
+    let (sc, _) = stripped::<Gradient>(&tris, &[0, 50, H]);
+    assert_eq!(wc, sc);
+    let (sc2, _) = stripped::<Gradient>(&[], &[0, 50, H]);
+    assert_ne!(wc, sc2);
+}
