@@ -55,13 +55,16 @@
 use core::marker::PhantomData;
 
 use crate::clip::{clip_triangle, is_front, ClipVertex};
+use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
-use crate::math::{normalize_to_q30, Affine3, ClipMatrix, ONE_Q30};
+use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
+use crate::raster::quadratic::draw_quadratic;
+use crate::raster::span::Gradient;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use crate::raster::{draw_triangle, ScreenVertex, GUARD};
-use crate::scene::{Scene, ShadingMode, MAX_OBJECTS};
-use crate::shade::{Flat, Gouraud, Shading};
+use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
+use crate::shade::{Flat, Gouraud, Quadratic, Shading};
 use crate::target::{PixelFormat, Target};
 
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
@@ -183,6 +186,9 @@ pub struct Stats {
     pub drawn: u32,
     /// Pixels covered inside the target (before the depth test).
     pub pixels: u32,
+    /// Triangles that asked for the quadratic surface but were drawn with Gouraud
+    /// (those that went through the clipper: their pieces have no midpoint colours).
+    pub fallback: u32,
 }
 
 impl core::ops::AddAssign for Stats {
@@ -192,6 +198,7 @@ impl core::ops::AddAssign for Stats {
         self.clipped += o.clipped;
         self.drawn += o.drawn;
         self.pixels += o.pixels;
+        self.fallback += o.fallback;
     }
 }
 
@@ -201,9 +208,46 @@ struct Prepared {
     offset: usize,
 }
 
+/// A lit colour callback: eye-space position (Q16.16) and unit normal (Q2.30) to a
+/// Q16.16 colour.
+pub type ShadeFn<'f> = &'f dyn Fn([i32; 3], [i32; 3]) -> [i32; 3];
+
+/// Builds an object's [`LightingSetup`] for the specular model the frame was
+/// prepared with and hands its `shade` to the callback (the specular model is a type
+/// parameter of `prepare_with`, erased here so `Frame` stays one type).
+type LightingFn = fn(&Scene<'_>, &Object<'_>, &Mat4, &mut dyn FnMut(ShadeFn<'_>));
+
+fn with_lighting<Sp: Specular>(
+    scene: &Scene<'_>,
+    obj: &Object<'_>,
+    view: &Mat4,
+    f: &mut dyn FnMut(ShadeFn<'_>),
+) {
+    let light = LightingSetup::<Sp>::new(
+        &scene.lights,
+        view,
+        &obj.material,
+        scene.global_ambient,
+        scene.local_viewer,
+    );
+    f(&|p, n| light.shade(p, n));
+}
+
 /// A frame whose vertex stage has run; draw it into one or more targets.
+///
+/// Quadratic shading needs colours lit at the edge midpoints at draw time. Rather
+/// than keeping eye-space positions and normals per vertex (24 more bytes per cache
+/// entry, paid on every path) or per-object lighting setups in the frame (about 1 KB
+/// for 16 objects), the draw recomputes each object's model-view [`Affine3`] and
+/// [`LightingSetup`] (a few dozen multiplies and 8 normalisations per object) and
+/// lights each midpoint from the mesh: position = the model-space midpoint through
+/// the affine map (the average of the eye positions), normal = the normal matrix
+/// applied to `n_a + n_b`, normalised. The model-view is a similarity (rigid view,
+/// uniform scale), so that equals `normalize(n̂_a + n̂_b)` of the eye-space unit
+/// normals. The frame only grows by one function pointer.
 pub struct Frame<'s, 'a, 'c, P: PixelFormat> {
     scene: &'s Scene<'a>,
+    lighting: LightingFn,
     cache: &'c [XfVertex],
     objects: heapless::Vec<Prepared, MAX_OBJECTS>,
     vp: Viewport,
@@ -320,6 +364,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
         }
         Ok(Frame {
             scene,
+            lighting: with_lighting::<Sp>,
             cache,
             objects,
             vp,
@@ -337,16 +382,24 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
             (true, ShadingMode::Flat) => self.draw_with::<S, DepthTest, Flat, T>(target),
             (false, ShadingMode::Gouraud) => self.draw_with::<S, NoDepth, Gouraud, T>(target),
             (false, ShadingMode::Flat) => self.draw_with::<S, NoDepth, Flat, T>(target),
+            (true, ShadingMode::Quadratic) => self.draw_with::<S, DepthTest, Quadratic, T>(target),
+            (false, ShadingMode::Quadratic) => self.draw_with::<S, NoDepth, Quadratic, T>(target),
         }
     }
 
     /// Draws with every variant chosen by type: span method, depth mode, shading.
+    ///
+    /// A quadratic shading ([`Shading::QUADRATIC`]) has its own fill and ignores
+    /// `S`; its coverage is that of [`Gradient`].
     pub fn draw_with<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
         &self,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
         if target.width() != self.vp.width || target.frame_height() != self.vp.height {
             return Err(RenderError::TargetSizeMismatch);
+        }
+        if Sh::QUADRATIC {
+            return self.draw_quadratic::<Z, Sh, T>(target);
         }
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
@@ -392,6 +445,80 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
                     }
                 }
             }
+        }
+        Ok(st)
+    }
+
+    /// The quadratic path of [`Frame::draw_with`].
+    fn draw_quadratic<Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (i, (obj, prep)) in self
+            .scene
+            .objects
+            .iter()
+            .zip(self.objects.iter())
+            .enumerate()
+        {
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
+            let nm = &aff.normal;
+            (self.lighting)(self.scene, obj, &view, &mut |shade: ShadeFn<'_>| {
+                // The colour lit at the midpoint of the edge a–b.
+                let mid = |a: usize, b: usize, ca: [i32; 3], cb: [i32; 3]| -> [i32; 3] {
+                    let m: Vec3 = core::array::from_fn(|k| {
+                        Q16_16::from_bits(
+                            ((pos[a][k].to_bits() as i64 + pos[b][k].to_bits() as i64) >> 1) as i32,
+                        )
+                    });
+                    let n: [i64; 3] = core::array::from_fn(|k| {
+                        nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64
+                    });
+                    // Entries < 2^31, components < 2^16: sums of three < 2^49.
+                    let ne: [i64; 3] = core::array::from_fn(|r| {
+                        nm[r][0] as i64 * n[0] + nm[r][1] as i64 * n[1] + nm[r][2] as i64 * n[2]
+                    });
+                    match normalize_to_q30(ne) {
+                        Some(unit) => to_channels::<P>(shade(aff.point(&m), unit)),
+                        // Opposite normals: no midpoint normal, average the colours.
+                        None => {
+                            core::array::from_fn(|k| ((ca[k] as i64 + cb[k] as i64) >> 1) as i32)
+                        }
+                    }
+                };
+                for tri in obj.mesh.triangles() {
+                    st.triangles += 1;
+                    let t = tri.map(|i| verts[i as usize]);
+                    let s = [t[0].s, t[1].s, t[2].s];
+                    match classify(&t, cull, &self.vp, rows.clone()) {
+                        Class::Skip => st.culled += 1,
+                        Class::Draw => {
+                            let m = core::array::from_fn(|k| {
+                                let (a, b) = (k, (k + 1) % 3);
+                                mid(tri[a] as usize, tri[b] as usize, s[a].c, s[b].c)
+                            });
+                            st.drawn += 1;
+                            st.pixels += draw_quadratic::<P, T, Z>(target, s, m, Sh::FILL);
+                        }
+                        Class::Clip => {
+                            st.clipped += 1;
+                            st.fallback += 1;
+                            let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                                pos: prep.clip.transform(&pos[tri[k] as usize]),
+                                c: s[k].c,
+                            });
+                            self.draw_clipped::<Gradient, Z, Gouraud, T>(target, cv, cull, &mut st);
+                        }
+                    }
+                }
+            });
         }
         Ok(st)
     }

@@ -141,6 +141,9 @@ pub enum ShadingMode {
     /// Vertex colours interpolated.
     #[default]
     Gouraud,
+    /// Quadratic intensity surface through the vertex and edge-midpoint colours
+    /// (seed 003; [`crate::shade::Quadratic`]).
+    Quadratic,
 }
 
 /// Everything a frame needs.

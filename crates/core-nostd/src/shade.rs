@@ -2,6 +2,9 @@
 //!
 //! [`Flat`] gives the whole triangle the colour of its last (provoking) vertex, as
 //! OpenGL does; [`Gouraud`] interpolates the vertex colours linearly in screen space.
+//! [`Quadratic`] fits a quadratic intensity surface through the vertex colours and
+//! the colours lit at the edge midpoints (seed 003), filled in 2×2 blocks;
+//! [`QuadraticRows`] is the same surface filled row by row (bit-identical).
 //! The choice is a type, so the span loop of a flat triangle carries no colour
 //! interpolation at all.
 
@@ -11,6 +14,13 @@ pub trait Shading {
     const NAME: &'static str;
     /// True if colours are interpolated across the triangle.
     const INTERPOLATE: bool;
+    /// True for the quadratic intensity surface: [`crate::render::Frame`] lights
+    /// the edge midpoints and fills with [`crate::raster::quadratic`]. A bare
+    /// [`crate::raster::draw_triangle`] has no midpoint colours and treats it as
+    /// Gouraud.
+    const QUADRATIC: bool = false;
+    /// How the quadratic surface is filled (only read when `QUADRATIC`).
+    const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Blocks;
 }
 
 /// One colour per triangle: its provoking (last) vertex's.
@@ -29,4 +39,26 @@ impl Shading for Flat {
 impl Shading for Gouraud {
     const NAME: &'static str = "gouraud";
     const INTERPOLATE: bool = true;
+}
+
+/// The quadratic intensity surface (seed 003), 2×2 block fill over two scanlines.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Quadratic;
+
+/// The quadratic intensity surface filled row by row (same pixels as [`Quadratic`]).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct QuadraticRows;
+
+impl Shading for Quadratic {
+    const NAME: &'static str = "quadratic";
+    const INTERPOLATE: bool = true;
+    const QUADRATIC: bool = true;
+    const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Blocks;
+}
+
+impl Shading for QuadraticRows {
+    const NAME: &'static str = "quadratic-rows";
+    const INTERPOLATE: bool = true;
+    const QUADRATIC: bool = true;
+    const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Rows;
 }

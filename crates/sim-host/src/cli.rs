@@ -18,6 +18,10 @@ USAGE:
                                   [--strip ROWS]
     fixshade reference SCENE -o OUT.png [--phong]
     fixshade compare REF.png TEST.png [--json]
+    fixshade report [--quick] [--out DIR]
+                                  accuracy against time for every span method and
+                                  shading mode: a table, and DIR/accuracy-vs-time.{md,csv,png}
+                                  (DIR: docs/, or out/report-quick/ with --quick)
     fixshade list                 built-in scenes, span methods, shading modes, formats
     fixshade help                 this text
 
@@ -194,6 +198,38 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
             let rb = Image::read_png(b.as_ref()).map_err(fail)?;
             let c = compare(&ra, &rb).map_err(fail)?;
             Ok(if o.json { c.to_json() } else { c.to_text() })
+        }
+        "report" => {
+            let mut opts = crate::report::ReportOptions::full();
+            let mut out = None;
+            let mut it = rest.iter();
+            while let Some(a) = it.next() {
+                match a.as_str() {
+                    "--quick" => opts = crate::report::ReportOptions::quick(),
+                    "--out" => {
+                        out = Some(PathBuf::from(
+                            it.next()
+                                .ok_or_else(|| usage("option --out needs a value"))?,
+                        ))
+                    }
+                    other => {
+                        return Err(usage(format!(
+                            "unexpected `{other}` here; report takes: --quick, --out DIR"
+                        )))
+                    }
+                }
+            }
+            if let Some(dir) = out {
+                opts.out_dir = dir;
+            }
+            let r = crate::report::run_report(&opts).map_err(fail)?;
+            let files: Vec<String> = r.files.iter().map(|p| p.display().to_string()).collect();
+            Ok(format!(
+                "{}\n\n{}\nwrote {}",
+                r.table,
+                r.summary,
+                files.join(", ")
+            ))
         }
         other => Err(usage(format!(
             "unknown command `{other}`; try `fixshade help`"

@@ -234,6 +234,7 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
     s.shading = match d.shading {
         ShadingName::Flat => ShadingMode::Flat,
         ShadingName::Gouraud => ShadingMode::Gouraud,
+        ShadingName::Quadratic => ShadingMode::Quadratic,
     };
     for (o, m) in d.objects.iter().zip(meshes) {
         let mesh = m

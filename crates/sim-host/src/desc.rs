@@ -173,6 +173,9 @@ pub enum ShadingName {
     Flat,
     /// Vertex colours interpolated linearly in screen space.
     Gouraud,
+    /// Quadratic intensity surface through the vertex and edge-midpoint colours
+    /// (seed 003); its reference is the exact Phong render.
+    Quadratic,
 }
 
 /// Span method by name.
@@ -296,6 +299,7 @@ impl Named for ShadingName {
     const ALL: &'static [(Self, &'static str)] = &[
         (ShadingName::Flat, "flat"),
         (ShadingName::Gouraud, "gouraud"),
+        (ShadingName::Quadratic, "quadratic"),
     ];
 }
 
@@ -351,7 +355,11 @@ mod tests {
             Sierpinski,
             SierpinskiExact,
         ]);
-        round_trips(&[ShadingName::Flat, ShadingName::Gouraud]);
+        round_trips(&[
+            ShadingName::Flat,
+            ShadingName::Gouraud,
+            ShadingName::Quadratic,
+        ]);
         round_trips(&[
             FormatName::Rgb565Le,
             FormatName::Rgb565Be,

@@ -8,4 +8,5 @@ pub mod image;
 pub mod mesh;
 pub mod pipeline;
 pub mod reference;
+pub mod report;
 pub mod scene_file;

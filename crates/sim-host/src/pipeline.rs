@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::convert::{core_scene, quantize_mesh, quantize_scene, FixedMesh};
-use crate::desc::{FormatName, MeshData, SceneDesc, SpanName};
+use crate::desc::{FormatName, MeshData, SceneDesc, ShadingName, SpanName};
 use crate::image::{channel_max, expand, Image};
 use crate::reference::{render_reference, RefOptions};
 use crate::{mesh, scene_file};
@@ -272,9 +272,14 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     let mut mask = vec![0u8; w as usize * h as usize];
     let mut fb = Framebuffer::<Mask>::new(&mut mask, None, w, h).map_err(|e| e.to_string())?;
     // The same span method as the colour pass: methods that move vertices
-    // (sierpinski) change coverage too.
-    with_span_method!(d.span, S => frame.draw_with::<S, NoDepth, Flat, _>(&mut fb))
-        .map_err(|e| e.to_string())?;
+    // (sierpinski) change coverage too. The quadratic surface has its own fill,
+    // which ignores the span method and covers what `gradient` covers.
+    if d.shading == ShadingName::Quadratic {
+        frame.draw_with::<fixshade::raster::span::Gradient, NoDepth, Flat, _>(&mut fb)
+    } else {
+        with_span_method!(d.span, S => frame.draw_with::<S, NoDepth, Flat, _>(&mut fb))
+    }
+    .map_err(|e| e.to_string())?;
     Ok(mask.iter().map(|m| *m != 0).collect())
 }
 

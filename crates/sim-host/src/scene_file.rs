@@ -31,8 +31,8 @@
 //!
 //! | key | type | default | range |
 //! |-----|------|---------|-------|
-//! | `shading` | string | `"gouraud"` | `flat`, `gouraud` ([`ShadingName`]) |
-//! | `span` | string | `"gradient"` | `classic`, `gradient` ([`SpanName`]) |
+//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic` ([`ShadingName`]) |
+//! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
 //! | `perspective_correct` | boolean | `false` | honoured by the reference renderer only |

@@ -29,6 +29,7 @@
 
 pub mod edge;
 pub mod parallel;
+pub mod quadratic;
 pub mod setup;
 pub mod sierpinski;
 pub mod span;

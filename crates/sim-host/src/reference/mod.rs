@@ -214,7 +214,9 @@ impl Target<'_> {
             } else {
                 match scene.shading {
                     ShadingName::Flat => flat,
-                    ShadingName::Gouraud => mix(|v| v.colour),
+                    // The quadratic surface's reference is the Phong render
+                    // (`phong`); without it, its vertex colours are interpolated.
+                    ShadingName::Gouraud | ShadingName::Quadratic => mix(|v| v.colour),
                 }
             };
             debug_assert!(

@@ -1,0 +1,1458 @@
+//! `fixshade report`: what accuracy costs in time.
+//!
+//! Every figure (sphere, teapot, robot) is rendered with every span method (with
+//! Gouraud shading) and every shading mode (with the `gradient` span). Each
+//! configuration is compared against the matching exact f64 reference and timed on
+//! the host; the timing rounds interleave the configurations so that noise on a
+//! shared machine hits them alike, and each configuration's time is the median over
+//! the rounds. The result is a text table (stdout), `accuracy-vs-time.md`,
+//! `accuracy-vs-time.csv` and `accuracy-vs-time.png` (NMSE, log scale, against host
+//! ns per covered pixel, with the Pareto front of each figure connected).
+//!
+//! MCU instruction counts are not measured here; their columns say `not measured`
+//! until the boards work provides them.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use crate::compare::compare;
+use crate::desc::{Named, ShadingName, SpanName};
+use crate::image::Image;
+use crate::pipeline::{self, LoadedScene};
+
+/// The figures of the full report.
+pub const FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
+
+/// What the MCU columns say until the boards issue fills them.
+pub const NOT_MEASURED: &str = "not measured";
+
+/// The machine note written into the markdown.
+pub const MACHINE_NOTE: &str = "2 cores, shared";
+
+/// File stem of the outputs.
+pub const STEM: &str = "accuracy-vs-time";
+
+/// How a report run is done.
+#[derive(Clone, Debug)]
+pub struct ReportOptions {
+    /// Quick mode (CI): one figure, few timing runs.
+    pub quick: bool,
+    /// Directory the `.md`, `.csv` and `.png` go into.
+    pub out_dir: PathBuf,
+    /// Figures (built-in scene names or scene files).
+    pub figures: Vec<String>,
+    /// Timing rounds; each round times every configuration once.
+    pub rounds: usize,
+    /// Frames per configuration per round (`time_frame`'s median of these).
+    pub runs_per_round: usize,
+    /// Print a progress line on stderr.
+    pub progress: bool,
+}
+
+impl ReportOptions {
+    /// The full report: all figures, into `docs/`.
+    pub fn full() -> ReportOptions {
+        ReportOptions {
+            quick: false,
+            out_dir: PathBuf::from("docs"),
+            figures: FIGURES.iter().map(|s| s.to_string()).collect(),
+            rounds: 51,
+            runs_per_round: 11,
+            progress: true,
+        }
+    }
+
+    /// The quick report: the sphere only, few runs, into `out/report-quick/`.
+    pub fn quick() -> ReportOptions {
+        ReportOptions {
+            quick: true,
+            out_dir: PathBuf::from("out/report-quick"),
+            figures: vec!["sphere".to_string()],
+            rounds: 7,
+            runs_per_round: 5,
+            progress: true,
+        }
+    }
+
+    /// The command line that reproduces this run.
+    fn command(&self) -> String {
+        let mut c = String::from("cargo run --release -- report");
+        if self.quick {
+            c.push_str(" --quick");
+        }
+        let default = if self.quick {
+            ReportOptions::quick().out_dir
+        } else {
+            ReportOptions::full().out_dir
+        };
+        if self.out_dir != default {
+            let _ = write!(c, " --out {}", self.out_dir.display());
+        }
+        c
+    }
+}
+
+/// Which sweep a configuration belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A span method, with Gouraud shading.
+    Span,
+    /// A shading mode, with the `gradient` span.
+    Shading,
+}
+
+impl Kind {
+    /// `span` or `shading`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Kind::Span => "span",
+            Kind::Shading => "shading",
+        }
+    }
+}
+
+/// One configuration of the report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Config {
+    /// Which sweep.
+    pub kind: Kind,
+    /// Span method.
+    pub span: SpanName,
+    /// Shading mode.
+    pub shading: ShadingName,
+}
+
+impl Config {
+    /// The name of what varies: the span name or the shading name.
+    pub fn name(&self) -> &'static str {
+        match self.kind {
+            Kind::Span => self.span.name(),
+            Kind::Shading => self.shading.name(),
+        }
+    }
+
+    /// Whether the matching reference is the per-pixel (Phong) one.
+    pub fn phong_reference(&self) -> bool {
+        matches!(self.shading.name(), "phong" | "quadratic")
+    }
+
+    /// The name of the matching exact f64 reference: `phong` (per-pixel) for
+    /// `quadratic` and `phong`, else the shading's own (`gouraud`, `flat`).
+    pub fn reference_name(&self) -> &'static str {
+        if self.phong_reference() {
+            "phong"
+        } else {
+            self.shading.name()
+        }
+    }
+}
+
+/// The configurations, in report order: every span method with Gouraud, then every
+/// shading mode with the `gradient` span (Gouraud + gradient appears once, as a span
+/// row).
+pub fn configurations() -> Vec<Config> {
+    let mut v: Vec<Config> = SpanName::ALL
+        .iter()
+        .map(|&(span, _)| Config {
+            kind: Kind::Span,
+            span,
+            shading: ShadingName::Gouraud,
+        })
+        .collect();
+    for &(shading, _) in ShadingName::ALL {
+        let c = Config {
+            kind: Kind::Shading,
+            span: SpanName::Gradient,
+            shading,
+        };
+        if !v.iter().any(|o| o.span == c.span && o.shading == c.shading) {
+            v.push(c);
+        }
+    }
+    v
+}
+
+/// The baseline configuration: `classic` span with Gouraud shading.
+pub fn is_baseline(c: &Config) -> bool {
+    c.span == SpanName::Classic && c.shading == ShadingName::Gouraud
+}
+
+/// One measured row.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// Figure name.
+    pub figure: String,
+    /// The configuration.
+    pub config: Config,
+    /// NMSE against the matching reference.
+    pub nmse: f64,
+    /// Verdict word.
+    pub verdict: &'static str,
+    /// NMSE against the Gouraud f64 reference (the smooth surface), whatever the
+    /// shading: what a shading mode loses against per-vertex smooth shading.
+    pub nmse_vs_gouraud: f64,
+    /// NMSE against the per-pixel (Phong) f64 reference.
+    pub nmse_vs_phong: f64,
+    /// Largest channel error.
+    pub max_channel_error: u8,
+    /// Pixels covered in one image only.
+    pub coverage_mismatch: usize,
+    /// Covered pixels of the fixed-point render.
+    pub covered: usize,
+    /// Median frame time over the rounds.
+    pub frame: Duration,
+    /// Host ns per covered pixel.
+    pub ns_per_px: f64,
+    /// Round-to-round spread of the frame time: interquartile range over median.
+    pub spread: f64,
+    /// Frame time over the baseline's of the same figure.
+    pub ratio: f64,
+    /// The render's bytes equal those of the `gradient` + Gouraud render.
+    pub same_as_gradient: bool,
+    /// On the figure's Pareto front: no other configuration is both cheaper and
+    /// closer to the per-pixel reference.
+    pub pareto: bool,
+}
+
+/// The result of a report run.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Rows, figure by figure in configuration order.
+    pub rows: Vec<Row>,
+    /// The text table printed on stdout.
+    pub table: String,
+    /// The generated trade-off paragraph.
+    pub summary: String,
+    /// Paths written.
+    pub files: Vec<PathBuf>,
+}
+
+fn progress(on: bool, k: usize, n: usize, what: &str) {
+    if on {
+        let mut e = std::io::stderr();
+        let _ = write!(e, "\r[{k}/{n}] {what:<48}");
+        let _ = e.flush();
+    }
+}
+
+fn median(v: &mut [Duration]) -> Duration {
+    v.sort();
+    v[v.len() / 2]
+}
+
+/// Runs the report and writes its files into `opts.out_dir`.
+pub fn run_report(opts: &ReportOptions) -> Result<Report, String> {
+    let configs = configurations();
+    let n_meas = opts.figures.len() * configs.len();
+    let rounds = opts.rounds.max(1);
+    let total = n_meas * (1 + rounds);
+    let mut step = 0;
+
+    // Accuracy: render and compare every configuration once.
+    struct Item {
+        figure: String,
+        config: Config,
+        ls: LoadedScene,
+        cmp: crate::compare::Comparison,
+        nmse_vs_gouraud: f64,
+        nmse_vs_phong: f64,
+        covered: usize,
+        bytes: Vec<u8>,
+    }
+    let mut items: Vec<Item> = Vec::with_capacity(n_meas);
+    for fig in &opts.figures {
+        let base = pipeline::load_arg(fig)?;
+        let mut refs: HashMap<(&'static str, bool), Image> = HashMap::new();
+        for c in &configs {
+            step += 1;
+            progress(
+                opts.progress,
+                step,
+                total,
+                &format!("{fig} {} {}", c.kind.as_str(), c.name()),
+            );
+            let mut ls = base.clone();
+            ls.desc.span = c.span;
+            ls.desc.shading = c.shading;
+            let key = (c.reference_name(), c.phong_reference());
+            refs.entry(key)
+                .or_insert_with(|| pipeline::reference(&ls, key.1));
+            let gkey = ("gouraud", false);
+            refs.entry(gkey).or_insert_with(|| {
+                let mut g = ls.clone();
+                g.desc.shading = ShadingName::Gouraud;
+                pipeline::reference(&g, false)
+            });
+            let pkey = ("phong", true);
+            refs.entry(pkey)
+                .or_insert_with(|| pipeline::reference(&ls, true));
+            let r = pipeline::render(&ls, None)?;
+            let cmp = compare(&refs[&key], &r.image)?;
+            let nmse_vs_gouraud = compare(&refs[&gkey], &r.image)?.nmse;
+            let nmse_vs_phong = compare(&refs[&pkey], &r.image)?.nmse;
+            items.push(Item {
+                figure: fig.clone(),
+                config: *c,
+                ls,
+                cmp,
+                nmse_vs_gouraud,
+                nmse_vs_phong,
+                covered: r.image.covered_count(),
+                bytes: r.bytes,
+            });
+        }
+    }
+
+    // Time: interleaved rounds, each timing every configuration once; the start
+    // rotates so no configuration always runs first.
+    let mut times: Vec<Vec<Duration>> = vec![Vec::with_capacity(rounds); items.len()];
+    for round in 0..rounds {
+        for j in 0..items.len() {
+            let i = (j + round) % items.len();
+            step += 1;
+            if j % 4 == 0 || j + 1 == items.len() {
+                progress(
+                    opts.progress,
+                    step,
+                    total,
+                    &format!("timing round {}/{rounds}", round + 1),
+                );
+            }
+            times[i].push(pipeline::time_frame(&items[i].ls, opts.runs_per_round)?);
+        }
+    }
+    if opts.progress {
+        eprintln!();
+    }
+
+    let mut rows = Vec::with_capacity(items.len());
+    for (it, t) in items.iter().zip(times.iter_mut()) {
+        let frame = median(t);
+        let q = |f: usize| t[(t.len() - 1) * f / 4].as_secs_f64();
+        let spread = (q(3) - q(1)) / frame.as_secs_f64().max(1e-12);
+        rows.push(Row {
+            figure: it.figure.clone(),
+            config: it.config,
+            nmse: it.cmp.nmse,
+            nmse_vs_gouraud: it.nmse_vs_gouraud,
+            nmse_vs_phong: it.nmse_vs_phong,
+            verdict: it.cmp.verdict.as_str(),
+            max_channel_error: it.cmp.max_channel_error,
+            coverage_mismatch: it.cmp.coverage_mismatch,
+            covered: it.covered,
+            frame,
+            ns_per_px: frame.as_nanos() as f64 / it.covered.max(1) as f64,
+            spread,
+            ratio: f64::NAN,
+            same_as_gradient: false,
+            pareto: false,
+        });
+    }
+    for fig in &opts.figures {
+        let idx: Vec<usize> = (0..rows.len())
+            .filter(|&i| &rows[i].figure == fig)
+            .collect();
+        let base = idx
+            .iter()
+            .find(|&&i| is_baseline(&rows[i].config))
+            .map(|&i| rows[i].frame.as_secs_f64());
+        let grad = idx.iter().copied().find(|&i| {
+            rows[i].config.span == SpanName::Gradient
+                && rows[i].config.shading == ShadingName::Gouraud
+        });
+        for &i in &idx {
+            if let Some(b) = base {
+                rows[i].ratio = rows[i].frame.as_secs_f64() / b;
+            }
+            if let Some(g) = grad {
+                rows[i].same_as_gradient = items[i].bytes == items[g].bytes;
+            }
+        }
+        // Pareto front on one yardstick for all rows, the per-pixel (Phong) reference:
+        // cheapest first, a row is on it if it is more exact than every cheaper row.
+        let mut order = idx.clone();
+        order.sort_by(|&a, &b| {
+            rows[a]
+                .ns_per_px
+                .total_cmp(&rows[b].ns_per_px)
+                .then(rows[a].nmse_vs_phong.total_cmp(&rows[b].nmse_vs_phong))
+        });
+        let mut best = f64::INFINITY;
+        for i in order {
+            if rows[i].nmse_vs_phong < best {
+                best = rows[i].nmse_vs_phong;
+                rows[i].pareto = true;
+            }
+        }
+    }
+
+    let summary = summarize(&rows, &opts.figures);
+    let table = text_table(&rows);
+    std::fs::create_dir_all(&opts.out_dir)
+        .map_err(|e| format!("cannot create {}: {e}", opts.out_dir.display()))?;
+    let md = opts.out_dir.join(format!("{STEM}.md"));
+    let csv = opts.out_dir.join(format!("{STEM}.csv"));
+    let png = opts.out_dir.join(format!("{STEM}.png"));
+    let write = |p: &Path, s: &str| {
+        std::fs::write(p, s).map_err(|e| format!("cannot write {}: {e}", p.display()))
+    };
+    write(&md, &markdown(opts, &rows, &summary))?;
+    write(&csv, &to_csv(&rows))?;
+    plot::write_chart(&rows, &opts.figures, &png)?;
+    Ok(Report {
+        rows,
+        table,
+        summary,
+        files: vec![md, csv, png],
+    })
+}
+
+fn sci(x: f64) -> String {
+    if x == 0.0 {
+        "0".to_string()
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+fn text_table(rows: &[Row]) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{:<8} {:<8} {:<17} {:>10} {:<17} {:>4} {:>6} {:>10} {:>7} {:>7} {:>6}  {:<12} {:<12}",
+        "figure",
+        "kind",
+        "configuration",
+        "NMSE",
+        "verdict",
+        "max",
+        "cov",
+        "NMSE/pixref",
+        "ns/px",
+        "ratio",
+        "pareto",
+        "instr/px M0",
+        "instr/px M4"
+    );
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "{:<8} {:<8} {:<17} {:>10} {:<17} {:>4} {:>6} {:>10} {:>7.2} {:>7.3} {:>6}  {:<12} {:<12}",
+            r.figure,
+            r.config.kind.as_str(),
+            r.config.name(),
+            sci(r.nmse),
+            r.verdict,
+            r.max_channel_error,
+            r.coverage_mismatch,
+            sci(r.nmse_vs_phong),
+            r.ns_per_px,
+            r.ratio,
+            if r.pareto { "yes" } else { "" },
+            NOT_MEASURED,
+            NOT_MEASURED
+        );
+    }
+    t.pop();
+    t
+}
+
+/// The CSV header.
+pub const CSV_HEADER: &str = "figure,kind,configuration,span,shading,reference,nmse,verdict,\
+max_channel_error,coverage_mismatch,covered_pixels,frame_ns,ns_per_px,ratio_to_classic_gouraud,\
+pareto,instr_per_px_m0,instr_per_px_m4,nmse_vs_gouraud_reference,nmse_vs_phong_reference,timing_spread";
+
+fn to_csv(rows: &[Row]) -> String {
+    let mut s = String::from(CSV_HEADER);
+    s.push('\n');
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{:e},{},{},{},{},{},{:.4},{:.4},{},{},{},{:e},{:e},{:.4}",
+            r.figure,
+            r.config.kind.as_str(),
+            r.config.name(),
+            r.config.span.name(),
+            r.config.shading.name(),
+            r.config.reference_name(),
+            r.nmse,
+            r.verdict,
+            r.max_channel_error,
+            r.coverage_mismatch,
+            r.covered,
+            r.frame.as_nanos(),
+            r.ns_per_px,
+            r.ratio,
+            r.pareto,
+            NOT_MEASURED,
+            NOT_MEASURED,
+            r.nmse_vs_gouraud,
+            r.nmse_vs_phong,
+            r.spread
+        );
+    }
+    s
+}
+
+fn markdown(opts: &ReportOptions, rows: &[Row], summary: &str) -> String {
+    let mut m = String::new();
+    let _ = writeln!(m, "# Accuracy versus time\n");
+    let _ = writeln!(
+        m,
+        "<!-- Generated by `fixshade report`; rerun the command below instead of editing. -->\n"
+    );
+    let _ = writeln!(m, "Made by `{}`.", opts.command());
+    let _ = writeln!(
+        m,
+        "Machine: {MACHINE_NOTE}. Host time is the median over {} interleaved rounds \
+         (each round times every configuration once, each time the median of {} frames); \
+         the ratio is to `classic` + `gouraud` of the same figure in the same run.\n",
+        opts.rounds.max(1),
+        opts.runs_per_round.max(1)
+    );
+    let _ = writeln!(m, "## What it shows\n\n{summary}\n");
+    let _ = writeln!(m, "![NMSE against host ns per covered pixel]({STEM}.png)\n");
+    let _ = writeln!(m, "## Table\n");
+    let _ = writeln!(
+        m,
+        "| figure | kind | configuration | NMSE | verdict | max channel error | coverage mismatch | NMSE vs per-pixel | host ns/px | × classic | Pareto | instr/px M0 | instr/px M4 |"
+    );
+    let _ = writeln!(
+        m,
+        "|---|---|---|---:|---|---:|---:|---:|---:|---:|---|---|---|"
+    );
+    for r in rows {
+        let _ = writeln!(
+            m,
+            "| {} | {} | `{}` | {} | {} | {} | {} | {} | {:.2} | {:.3} | {} | {} | {} |",
+            r.figure,
+            r.config.kind.as_str(),
+            r.config.name(),
+            sci(r.nmse),
+            r.verdict,
+            r.max_channel_error,
+            r.coverage_mismatch,
+            sci(r.nmse_vs_phong),
+            r.ns_per_px,
+            r.ratio,
+            if r.pareto { "yes" } else { "" },
+            NOT_MEASURED,
+            NOT_MEASURED
+        );
+    }
+    let _ = writeln!(
+        m,
+        "\nSpan rows use Gouraud shading; shading rows use the `gradient` span (Gouraud with \
+         `gradient` is the span row `gradient`). NMSE is against the matching exact f64 reference: \
+         the flat one for flat, the Gouraud one for Gouraud, the per-pixel (Phong) one for \
+         `quadratic` and `phong`; the CSV also gives every row's NMSE against the Gouraud \
+         and the per-pixel references. The Pareto column and the plot use one yardstick \
+         for every row, the NMSE against the per-pixel reference: a row is on the front when \
+         every cheaper row of its figure is further from that reference. Max channel error is in 8-bit units; coverage mismatch counts pixels covered in one \
+         image only. Host ns/px is the frame time (vertex stage and rasterization) over the \
+         covered pixels. The MCU columns wait for instruction counts from QEMU (the boards \
+         issue) and are never estimated.\n"
+    );
+    let _ = writeln!(m, "## Not yet in the pipeline\n");
+    let _ = writeln!(
+        m,
+        "The issue asks for these rows; they appear once the pipeline can select them:\n"
+    );
+    let _ = writeln!(
+        m,
+        "- dividers: `exact`, `table`, `shift-add-N` for N = 4..16;"
+    );
+    let _ = writeln!(m, "- specular models × n ∈ {{8, 32, 128, 512, 1000}};");
+    let missing: Vec<&str> = ["quadratic", "phong", "adaptive"]
+        .into_iter()
+        .filter(|n| !ShadingName::ALL.iter().any(|(_, a)| a == n))
+        .collect();
+    if !missing.is_empty() {
+        let _ = writeln!(m, "- shading modes: {};", missing.join(", "));
+    }
+    let _ = writeln!(
+        m,
+        "- perspective-correct interpolation on/off in the fixed-point renderer (today only the reference has it)."
+    );
+    m
+}
+
+fn median_f(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v[v.len() / 2]
+    }
+}
+
+/// Writes the trade-off paragraph from the measured rows.
+fn summarize(rows: &[Row], figures: &[String]) -> String {
+    use crate::compare::Verdict;
+    let nf = figures.len();
+    let of = |pred: &dyn Fn(&Config) -> bool| -> Vec<&Row> {
+        rows.iter().filter(|r| pred(&r.config)).collect()
+    };
+    let med = |rs: &[&Row], f: &dyn Fn(&Row) -> f64| median_f(rs.iter().map(|r| f(r)).collect());
+    let mult = |x: f64| {
+        if x >= 100.0 {
+            format!("{x:.0}")
+        } else if x >= 10.0 {
+            format!("{x:.1}")
+        } else {
+            format!("{x:.2}")
+        }
+    };
+    let word = |n: f64| Verdict::from_nmse(n).as_str();
+    let figs = if nf == 1 {
+        format!("the {}", figures[0])
+    } else {
+        format!("all {nf} figures")
+    };
+    let over = if nf == 1 {
+        String::new()
+    } else {
+        format!(", medians over {nf} figures")
+    };
+    let mut s = String::new();
+
+    let base = of(&is_baseline);
+    let base_ns: Vec<String> = base
+        .iter()
+        .map(|r| format!("{:.1} ns/px on the {}", r.ns_per_px, r.figure))
+        .collect();
+    let spread = median_f(rows.iter().map(|r| r.spread).collect());
+    let _ = write!(
+        s,
+        "The baseline, the `classic` span with Gouraud shading, costs {}; times below are \
+         relative to it{over}. The round-to-round spread of a configuration's time \
+         (interquartile range over median) is typically {:.0} %, so time differences smaller \
+         than that are noise on this machine. ",
+        base_ns.join(", "),
+        spread * 100.0
+    );
+
+    // Span methods: (name, median ratio, figures with gradient's image, median NMSE).
+    let grad_rows = of(&|c: &Config| c.kind == Kind::Span && c.span == SpanName::Gradient);
+    let grad_nmse = med(&grad_rows, &|r| r.nmse);
+    let mut spans: Vec<(&'static str, f64, usize, f64)> = SpanName::ALL
+        .iter()
+        .map(|&(sp, name)| {
+            let rs = of(&|c: &Config| c.kind == Kind::Span && c.span == sp);
+            let same = rs.iter().filter(|r| r.same_as_gradient).count();
+            (name, med(&rs, &|r| r.ratio), same, med(&rs, &|r| r.nmse))
+        })
+        .filter(|x| x.1.is_finite())
+        .collect();
+    spans.sort_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some(fast) = spans.first() {
+        let _ = write!(
+            s,
+            "The fastest span method is `{}` at {:.2}× classic, with NMSE {} ({}). ",
+            fast.0,
+            fast.1,
+            sci(fast.3),
+            word(fast.3)
+        );
+    }
+    let lossless: Vec<String> = spans
+        .iter()
+        .filter(|x| x.2 == nf && x.0 != "gradient")
+        .map(|x| format!("`{}` {:.2}×", x.0, x.1))
+        .collect();
+    if !lossless.is_empty() {
+        let _ = write!(
+            s,
+            "These span methods give exactly `gradient`'s image on {figs} (NMSE {}), so they \
+             lose nothing and differ only in time: {} (`gradient` itself: {:.2}×). ",
+            sci(grad_nmse),
+            lossless.join(", "),
+            spans
+                .iter()
+                .find(|g| g.0 == "gradient")
+                .map(|g| g.1)
+                .unwrap_or(f64::NAN)
+        );
+    }
+    for x in spans.iter().filter(|x| x.2 < nf && x.0 != "gradient") {
+        let rel = if grad_nmse > 0.0 {
+            format!(", {}× gradient's", mult(x.3 / grad_nmse))
+        } else {
+            String::new()
+        };
+        let grad_ratio = spans
+            .iter()
+            .find(|g| g.0 == "gradient")
+            .map(|g| g.1)
+            .unwrap_or(f64::NAN);
+        if x.0 == "classic" {
+            let _ = write!(
+                s,
+                "`classic` itself, with its division per span, takes {:.2}× `gradient`'s time and \
+                 does not match its image: NMSE {} ({}{rel}). ",
+                1.0 / grad_ratio,
+                sci(x.3),
+                word(x.3)
+            );
+        } else {
+            let _ = write!(
+                s,
+                "`{}` costs {:.2}× classic and does not match `gradient`'s image: NMSE {} ({}{rel}). ",
+                x.0,
+                x.1,
+                sci(x.3),
+                word(x.3)
+            );
+        }
+    }
+
+    // Shading modes, each against Gouraud with the same (gradient) span.
+    let gouraud =
+        of(&|c: &Config| c.span == SpanName::Gradient && c.shading == ShadingName::Gouraud);
+    for &(sh, name) in ShadingName::ALL {
+        if sh == ShadingName::Gouraud {
+            continue;
+        }
+        let rs = of(&|c: &Config| c.kind == Kind::Shading && c.shading == sh);
+        if rs.is_empty() {
+            continue;
+        }
+        let t = median_f(
+            rs.iter()
+                .filter_map(|r| {
+                    gouraud
+                        .iter()
+                        .find(|g| g.figure == r.figure)
+                        .map(|g| r.frame.as_secs_f64() / g.frame.as_secs_f64())
+                })
+                .collect(),
+        );
+        let n = med(&rs, &|r| r.nmse);
+        let _ = write!(
+            s,
+            "Shading `{name}` takes {t:.2}× Gouraud's time (both with `gradient`); "
+        );
+        if rs[0].config.phong_reference() {
+            let g = med(&gouraud, &|r| r.nmse_vs_phong);
+            let _ = write!(
+                s,
+                "against the per-pixel (Phong) reference its NMSE is {} ({}), where Gouraud's is {} ({}). ",
+                sci(n),
+                word(n),
+                sci(g),
+                word(g)
+            );
+        } else {
+            let m = med(&rs, &|r| r.nmse_vs_gouraud);
+            let g = med(&gouraud, &|r| r.nmse);
+            let _ = write!(
+                s,
+                "it matches its own f64 reference with NMSE {}, but against the smooth Gouraud \
+                 reference its NMSE is {} ({}), where Gouraud's is {}. ",
+                sci(n),
+                sci(m),
+                word(m),
+                sci(g)
+            );
+        }
+    }
+
+    // Pareto fronts.
+    for f in figures {
+        let mut front: Vec<&Row> = rows.iter().filter(|r| &r.figure == f && r.pareto).collect();
+        front.sort_by(|a, b| a.ns_per_px.total_cmp(&b.ns_per_px));
+        let names: Vec<String> = front
+            .iter()
+            .map(|r| {
+                format!(
+                    "`{}` ({:.2} ns/px, NMSE {})",
+                    r.config.name(),
+                    r.ns_per_px,
+                    sci(r.nmse_vs_phong)
+                )
+            })
+            .collect();
+        let _ = write!(
+            s,
+            "On the {f} the Pareto front (NMSE against the per-pixel reference, cheapest \
+             first) is {}. ",
+            names.join(", ")
+        );
+    }
+    s.pop();
+    s
+}
+
+/// The chart: plotters draws the geometry into a memory buffer; labels use a small
+/// built-in pixel font (plotters' own text needs a font library); the `png` crate
+/// encodes it.
+mod plot {
+    use super::{Kind, Row};
+    use plotters::prelude::*;
+    use std::path::Path;
+
+    const W: u32 = 1000;
+    const H: u32 = 680;
+    const COLORS: [RGBColor; 6] = [
+        RGBColor(0, 90, 200),
+        RGBColor(220, 80, 0),
+        RGBColor(0, 150, 60),
+        RGBColor(150, 0, 150),
+        RGBColor(120, 90, 0),
+        RGBColor(0, 140, 150),
+    ];
+
+    /// Text drawn over the chart; scale-1 labels get a white box behind them so the
+    /// markers they overlap do not hide them.
+    struct Label {
+        x: i32,
+        y: i32,
+        text: String,
+        scale: i32,
+        color: RGBColor,
+    }
+
+    fn nice_step(span: f64) -> f64 {
+        let raw = span / 8.0;
+        let p = 10f64.powf(raw.log10().floor());
+        let m = raw / p;
+        p * if m < 1.5 {
+            1.0
+        } else if m < 3.5 {
+            2.0
+        } else if m < 7.5 {
+            5.0
+        } else {
+            10.0
+        }
+    }
+
+    pub fn write_chart(rows: &[Row], figures: &[String], path: &Path) -> Result<(), String> {
+        let mut buf = vec![255u8; (W * H * 3) as usize];
+        let labels = draw(rows, figures, &mut buf).map_err(|e| format!("chart: {e}"))?;
+        for l in &labels {
+            if l.scale == 1 {
+                let wpx = 6 * l.text.chars().count() as i32;
+                for yy in (l.y - 1).max(0)..(l.y + 10).min(H as i32) {
+                    for xx in (l.x - 1).max(0)..(l.x + wpx).min(W as i32) {
+                        let i = (yy as usize * W as usize + xx as usize) * 3;
+                        buf[i..i + 3].copy_from_slice(&[255, 255, 255]);
+                    }
+                }
+            }
+            super::font::draw_text(&mut buf, W, H, l.x, l.y, &l.text, l.scale, l.color);
+        }
+        let file = std::fs::File::create(path)
+            .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
+        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), W, H);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut w = enc
+            .write_header()
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        w.write_image_data(&buf)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        w.finish()
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    }
+
+    fn draw(
+        rows: &[Row],
+        figures: &[String],
+        buf: &mut [u8],
+    ) -> Result<Vec<Label>, Box<dyn std::error::Error>> {
+        let mut labels = Vec::new();
+        let black = RGBColor(0, 0, 0);
+        let grey = RGBColor(215, 215, 215);
+        // NMSE 0 (exact) is drawn a decade below the smallest positive NMSE.
+        let min_pos = rows
+            .iter()
+            .map(|r| r.nmse_vs_phong)
+            .filter(|n| *n > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let floor = if min_pos.is_finite() {
+            10f64.powf(min_pos.log10().floor() - 1.0)
+        } else {
+            1e-9
+        };
+        let nm = |r: &Row| r.nmse_vs_phong.max(floor);
+        let finite: Vec<&Row> = rows.iter().filter(|r| r.ns_per_px.is_finite()).collect();
+        let xmax = finite.iter().map(|r| r.ns_per_px).fold(0.0, f64::max) * 1.08;
+        let xmin = finite
+            .iter()
+            .map(|r| r.ns_per_px)
+            .fold(f64::INFINITY, f64::min)
+            .min(xmax)
+            * 0.9;
+        let (xmin, xmax) = if xmax > xmin {
+            (xmin, xmax)
+        } else {
+            (0.0, 1.0)
+        };
+        let lo = finite.iter().map(|r| nm(r)).fold(f64::INFINITY, f64::min);
+        let hi = finite.iter().map(|r| nm(r)).fold(0.0, f64::max);
+        let (ylo_e, yhi_e) = if lo.is_finite() && hi > 0.0 {
+            (
+                lo.log10().floor() as i32,
+                (hi.log10().ceil() as i32).max(lo.log10().floor() as i32 + 1),
+            )
+        } else {
+            (-7, -2)
+        };
+        let (ylo, yhi) = (10f64.powi(ylo_e), 10f64.powi(yhi_e));
+
+        let root = BitMapBackend::with_buffer(buf, (W, H)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let chart = ChartBuilder::on(&root)
+            .margin_top(64)
+            .margin_right(30)
+            .margin_left(90)
+            .margin_bottom(70)
+            .build_cartesian_2d(xmin..xmax, (ylo..yhi).log_scale())?;
+        let px = |x: f64, y: f64| chart.backend_coord(&(x, y));
+
+        // Grid and tick labels.
+        let step = nice_step(xmax - xmin);
+        let mut x = (xmin / step).ceil() * step;
+        while x <= xmax {
+            chart.plotting_area().draw(&PathElement::new(
+                vec![(x, ylo), (x, yhi)],
+                grey.stroke_width(1),
+            ))?;
+            let (bx, by) = px(x, ylo);
+            let t = if step >= 1.0 {
+                format!("{x:.0}")
+            } else {
+                format!("{x:.1}")
+            };
+            labels.push(Label {
+                x: bx - 6 * t.len() as i32,
+                y: by + 10,
+                text: t,
+                scale: 2,
+                color: black,
+            });
+            x += step;
+        }
+        for e in ylo_e..=yhi_e {
+            let y = 10f64.powi(e);
+            chart.plotting_area().draw(&PathElement::new(
+                vec![(xmin, y), (xmax, y)],
+                grey.stroke_width(1),
+            ))?;
+            let (bx, by) = px(xmin, y);
+            let t = format!("1e{e}");
+            labels.push(Label {
+                x: bx - 12 * t.len() as i32 - 8,
+                y: by - 7,
+                text: t,
+                scale: 2,
+                color: black,
+            });
+        }
+        let (x0, y0) = px(xmin, ylo);
+        let (x1, y1) = px(xmax, yhi);
+        root.draw(&Rectangle::new([(x0, y1), (x1, y0)], black.stroke_width(1)))?;
+        labels.push(Label {
+            x: (x0 + x1) / 2 - 6 * 28,
+            y: y0 + 40,
+            text: "host ns per covered pixel".into(),
+            scale: 2,
+            color: black,
+        });
+        labels.push(Label {
+            x: x0 - 85,
+            y: 6,
+            text: "NMSE against the per-pixel f64 reference (log) and host time".into(),
+            scale: 2,
+            color: black,
+        });
+        labels.push(Label {
+            x: x0 - 85,
+            y: y1 - 28,
+            text: "NMSE, lines join each figure's pareto front".into(),
+            scale: 2,
+            color: black,
+        });
+
+        // Points and fronts.
+        for (fi, f) in figures.iter().enumerate() {
+            let col = COLORS[fi % COLORS.len()];
+            let mine: Vec<&Row> = finite.iter().copied().filter(|r| &r.figure == f).collect();
+            let mut front: Vec<&Row> = mine.iter().copied().filter(|r| r.pareto).collect();
+            front.sort_by(|a, b| a.ns_per_px.total_cmp(&b.ns_per_px));
+            chart.plotting_area().draw(&PathElement::new(
+                front
+                    .iter()
+                    .map(|r| (r.ns_per_px, nm(r)))
+                    .collect::<Vec<_>>(),
+                col.stroke_width(2),
+            ))?;
+            for r in &mine {
+                let p = (r.ns_per_px, nm(r));
+                let style = if r.pareto {
+                    col.filled()
+                } else {
+                    col.stroke_width(2)
+                };
+                match r.config.kind {
+                    Kind::Span => {
+                        chart.plotting_area().draw(&Circle::new(p, 5, style))?;
+                    }
+                    Kind::Shading => {
+                        let (bx, by) = px(p.0, p.1);
+                        root.draw(&Rectangle::new([(bx - 5, by - 5), (bx + 5, by + 5)], style))?;
+                    }
+                }
+                if r.pareto || r.config.kind == Kind::Shading {
+                    let (bx, by) = px(p.0, p.1);
+                    labels.push(Label {
+                        x: bx + 4,
+                        y: by + 8,
+                        text: r.config.name().to_string(),
+                        scale: 1,
+                        color: col,
+                    });
+                }
+            }
+            // Legend.
+            let ly = y1 + 14 + 22 * fi as i32;
+            let lx = x1 - 230;
+            root.draw(&Circle::new((lx, ly + 6), 5, col.filled()))?;
+            labels.push(Label {
+                x: lx + 12,
+                y: ly,
+                text: f.clone(),
+                scale: 2,
+                color: col,
+            });
+        }
+        let ly = y1 + 14 + 22 * figures.len() as i32;
+        let lx = x1 - 230;
+        root.draw(&Circle::new((lx, ly + 6), 5, black.stroke_width(2)))?;
+        labels.push(Label {
+            x: lx + 12,
+            y: ly,
+            text: "span (gouraud)".into(),
+            scale: 2,
+            color: black,
+        });
+        root.draw(&Rectangle::new(
+            [(lx - 5, ly + 23), (lx + 5, ly + 33)],
+            black.stroke_width(2),
+        ))?;
+        labels.push(Label {
+            x: lx + 12,
+            y: ly + 22,
+            text: "shading (gradient)".into(),
+            scale: 2,
+            color: black,
+        });
+        labels.push(Label {
+            x: lx - 5,
+            y: ly + 44,
+            text: "filled: on the front".into(),
+            scale: 2,
+            color: black,
+        });
+        if rows.iter().any(|r| r.nmse_vs_phong < floor) {
+            labels.push(Label {
+                x: lx - 5,
+                y: ly + 66,
+                text: format!("NMSE 0 drawn at 1e{}", floor.log10().round()),
+                scale: 2,
+                color: black,
+            });
+        }
+        root.present()?;
+        Ok(labels)
+    }
+}
+
+/// A 5x7 pixel font for the chart's labels (lower case, digits, a few capitals and
+/// signs), so the chart needs no font library.
+mod font {
+    use plotters::style::RGBColor;
+
+    const GLYPHS: &[(char, [&str; 7])] = &[
+        (
+            '0',
+            [
+                ".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###.",
+            ],
+        ),
+        (
+            '1',
+            [
+                "..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###.",
+            ],
+        ),
+        (
+            '2',
+            [
+                ".###.", "#...#", "....#", "...#.", "..#..", ".#...", "#####",
+            ],
+        ),
+        (
+            '3',
+            [
+                "####.", "....#", "....#", ".###.", "....#", "....#", "####.",
+            ],
+        ),
+        (
+            '4',
+            [
+                "...#.", "..##.", ".#.#.", "#..#.", "#####", "...#.", "...#.",
+            ],
+        ),
+        (
+            '5',
+            [
+                "#####", "#....", "####.", "....#", "....#", "#...#", ".###.",
+            ],
+        ),
+        (
+            '6',
+            [
+                "..##.", ".#...", "#....", "####.", "#...#", "#...#", ".###.",
+            ],
+        ),
+        (
+            '7',
+            [
+                "#####", "....#", "...#.", "..#..", ".#...", ".#...", ".#...",
+            ],
+        ),
+        (
+            '8',
+            [
+                ".###.", "#...#", "#...#", ".###.", "#...#", "#...#", ".###.",
+            ],
+        ),
+        (
+            '9',
+            [
+                ".###.", "#...#", "#...#", ".####", "....#", "...#.", ".##..",
+            ],
+        ),
+        (
+            'a',
+            [
+                ".....", ".....", ".###.", "....#", ".####", "#...#", ".####",
+            ],
+        ),
+        (
+            'b',
+            [
+                "#....", "#....", "#.##.", "##..#", "#...#", "#...#", "####.",
+            ],
+        ),
+        (
+            'c',
+            [
+                ".....", ".....", ".###.", "#....", "#....", "#...#", ".###.",
+            ],
+        ),
+        (
+            'd',
+            [
+                "....#", "....#", ".##.#", "#..##", "#...#", "#...#", ".####",
+            ],
+        ),
+        (
+            'e',
+            [
+                ".....", ".....", ".###.", "#...#", "#####", "#....", ".###.",
+            ],
+        ),
+        (
+            'f',
+            [
+                "..##.", ".#..#", ".#...", "###..", ".#...", ".#...", ".#...",
+            ],
+        ),
+        (
+            'g',
+            [
+                ".####", "#...#", "#...#", "#...#", ".####", "....#", ".###.",
+            ],
+        ),
+        (
+            'h',
+            [
+                "#....", "#....", "#.##.", "##..#", "#...#", "#...#", "#...#",
+            ],
+        ),
+        (
+            'i',
+            [
+                "..#..", ".....", ".##..", "..#..", "..#..", "..#..", ".###.",
+            ],
+        ),
+        (
+            'j',
+            [
+                "...#.", ".....", "..##.", "...#.", "...#.", "#..#.", ".##..",
+            ],
+        ),
+        (
+            'k',
+            [
+                "#....", "#....", "#..#.", "#.#..", "##...", "#.#..", "#..#.",
+            ],
+        ),
+        (
+            'l',
+            [
+                ".##..", "..#..", "..#..", "..#..", "..#..", "..#..", ".###.",
+            ],
+        ),
+        (
+            'm',
+            [
+                ".....", ".....", "##.#.", "#.#.#", "#.#.#", "#...#", "#...#",
+            ],
+        ),
+        (
+            'n',
+            [
+                ".....", ".....", "#.##.", "##..#", "#...#", "#...#", "#...#",
+            ],
+        ),
+        (
+            'o',
+            [
+                ".....", ".....", ".###.", "#...#", "#...#", "#...#", ".###.",
+            ],
+        ),
+        (
+            'p',
+            [
+                "####.", "#...#", "#...#", "#...#", "####.", "#....", "#....",
+            ],
+        ),
+        (
+            'q',
+            [
+                ".####", "#...#", "#...#", "#...#", ".####", "....#", "....#",
+            ],
+        ),
+        (
+            'r',
+            [
+                ".....", ".....", "#.##.", "##..#", "#....", "#....", "#....",
+            ],
+        ),
+        (
+            's',
+            [
+                ".....", ".....", ".###.", "#....", ".###.", "....#", "####.",
+            ],
+        ),
+        (
+            't',
+            [
+                ".#...", ".#...", "###..", ".#...", ".#...", ".#..#", "..##.",
+            ],
+        ),
+        (
+            'u',
+            [
+                ".....", ".....", "#...#", "#...#", "#...#", "#..##", ".##.#",
+            ],
+        ),
+        (
+            'v',
+            [
+                ".....", ".....", "#...#", "#...#", "#...#", ".#.#.", "..#..",
+            ],
+        ),
+        (
+            'w',
+            [
+                ".....", ".....", "#...#", "#...#", "#.#.#", "#.#.#", ".#.#.",
+            ],
+        ),
+        (
+            'x',
+            [
+                ".....", ".....", "#...#", ".#.#.", "..#..", ".#.#.", "#...#",
+            ],
+        ),
+        (
+            'y',
+            [
+                "#...#", "#...#", "#...#", "#...#", ".####", "....#", ".###.",
+            ],
+        ),
+        (
+            'z',
+            [
+                ".....", ".....", "#####", "...#.", "..#..", ".#...", "#####",
+            ],
+        ),
+        (
+            'N',
+            [
+                "#...#", "#...#", "##..#", "#.#.#", "#..##", "#...#", "#...#",
+            ],
+        ),
+        (
+            'M',
+            [
+                "#...#", "##.##", "#.#.#", "#.#.#", "#...#", "#...#", "#...#",
+            ],
+        ),
+        (
+            'S',
+            [
+                ".####", "#....", "#....", ".###.", "....#", "....#", "####.",
+            ],
+        ),
+        (
+            'E',
+            [
+                "#####", "#....", "#....", "####.", "#....", "#....", "#####",
+            ],
+        ),
+        (
+            '.',
+            [
+                ".....", ".....", ".....", ".....", ".....", ".##..", ".##..",
+            ],
+        ),
+        (
+            ',',
+            [
+                ".....", ".....", ".....", ".....", ".##..", "..#..", ".#...",
+            ],
+        ),
+        (
+            '\'',
+            [
+                "..#..", "..#..", ".#...", ".....", ".....", ".....", ".....",
+            ],
+        ),
+        (
+            '-',
+            [
+                ".....", ".....", ".....", "#####", ".....", ".....", ".....",
+            ],
+        ),
+        (
+            '+',
+            [
+                ".....", "..#..", "..#..", "#####", "..#..", "..#..", ".....",
+            ],
+        ),
+        (
+            '/',
+            [
+                "....#", "....#", "...#.", "..#..", ".#...", "#....", "#....",
+            ],
+        ),
+        (
+            '(',
+            [
+                "...#.", "..#..", ".#...", ".#...", ".#...", "..#..", "...#.",
+            ],
+        ),
+        (
+            ')',
+            [
+                ".#...", "..#..", "...#.", "...#.", "...#.", "..#..", ".#...",
+            ],
+        ),
+        (
+            ';',
+            [
+                ".....", ".##..", ".##..", ".....", ".##..", "..#..", ".#...",
+            ],
+        ),
+        (
+            ':',
+            [
+                ".....", ".##..", ".##..", ".....", ".##..", ".##..", ".....",
+            ],
+        ),
+        (
+            '=',
+            [
+                ".....", ".....", "#####", ".....", "#####", ".....", ".....",
+            ],
+        ),
+        (
+            '_',
+            [
+                ".....", ".....", ".....", ".....", ".....", ".....", "#####",
+            ],
+        ),
+        (
+            ' ',
+            [
+                ".....", ".....", ".....", ".....", ".....", ".....", ".....",
+            ],
+        ),
+    ];
+
+    const UNKNOWN: [&str; 7] = [
+        "#####", "#...#", "#...#", "#...#", "#...#", "#...#", "#####",
+    ];
+
+    /// Letters drawn two font pixels lower (their tails go below the line).
+    const DESCENDERS: &str = "gpqy";
+
+    fn glyph(c: char) -> &'static [&'static str; 7] {
+        GLYPHS
+            .iter()
+            .find(|(g, _)| *g == c)
+            .or_else(|| {
+                let l = c.to_ascii_lowercase();
+                GLYPHS.iter().find(|(g, _)| *g == l)
+            })
+            .map(|(_, rows)| rows)
+            .unwrap_or(&UNKNOWN)
+    }
+
+    /// Draws `text` with its top-left corner at (`x`, `y`), each font pixel a
+    /// `scale` x `scale` square; the advance is 6 font pixels, the height 9 (with
+    /// tails).
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_text(
+        buf: &mut [u8],
+        w: u32,
+        h: u32,
+        x: i32,
+        y: i32,
+        text: &str,
+        scale: i32,
+        color: RGBColor,
+    ) {
+        let mut cx = x;
+        for c in text.chars() {
+            let drop = if DESCENDERS.contains(c) { 2 } else { 0 };
+            for (ry, row) in glyph(c).iter().enumerate() {
+                let ry = ry + drop;
+                for (rx, b) in row.bytes().enumerate() {
+                    if b != b'#' {
+                        continue;
+                    }
+                    for dy in 0..scale {
+                        for dx in 0..scale {
+                            let px = cx + rx as i32 * scale + dx;
+                            let py = y + ry as i32 * scale + dy;
+                            if px >= 0 && py >= 0 && (px as u32) < w && (py as u32) < h {
+                                let i = (py as usize * w as usize + px as usize) * 3;
+                                buf[i..i + 3].copy_from_slice(&[color.0, color.1, color.2]);
+                            }
+                        }
+                    }
+                }
+            }
+            cx += 6 * scale;
+        }
+    }
+}
