@@ -65,52 +65,32 @@ pub struct Rgb888;
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Gray8;
 
-#[inline(always)]
-fn rgb565(r: u32, g: u32, b: u32) -> u16 {
-    ((r << 11) | (g << 5) | b) as u16
+/// RGB 5-6-5 in a `u16` whose memory bytes are in the order `$to`/`$from` give.
+macro_rules! rgb565_format {
+    ($ty:ty, $name:literal, $to:ident, $from:ident) => {
+        impl PixelFormat for $ty {
+            type Raw = u16;
+            const MAX: [u32; 3] = [31, 63, 31];
+            const BYTES: usize = 2;
+            const NAME: &'static str = $name;
+            #[inline(always)]
+            fn pack(r: u32, g: u32, b: u32) -> u16 {
+                (((r << 11) | (g << 5) | b) as u16).$to()
+            }
+            fn unpack(p: u16) -> [u32; 3] {
+                let v = u16::$from(p) as u32;
+                [v >> 11, (v >> 5) & 63, v & 31]
+            }
+            fn bytes(p: u16) -> [u8; 3] {
+                let b = p.to_ne_bytes();
+                [b[0], b[1], 0]
+            }
+        }
+    };
 }
 
-#[inline(always)]
-fn un565(v: u16) -> [u32; 3] {
-    let v = v as u32;
-    [v >> 11, (v >> 5) & 63, v & 31]
-}
-
-impl PixelFormat for Rgb565Le {
-    type Raw = u16;
-    const MAX: [u32; 3] = [31, 63, 31];
-    const BYTES: usize = 2;
-    const NAME: &'static str = "rgb565le";
-    #[inline(always)]
-    fn pack(r: u32, g: u32, b: u32) -> u16 {
-        rgb565(r, g, b).to_le()
-    }
-    fn unpack(p: u16) -> [u32; 3] {
-        un565(u16::from_le(p))
-    }
-    fn bytes(p: u16) -> [u8; 3] {
-        let b = p.to_ne_bytes();
-        [b[0], b[1], 0]
-    }
-}
-
-impl PixelFormat for Rgb565Be {
-    type Raw = u16;
-    const MAX: [u32; 3] = [31, 63, 31];
-    const BYTES: usize = 2;
-    const NAME: &'static str = "rgb565be";
-    #[inline(always)]
-    fn pack(r: u32, g: u32, b: u32) -> u16 {
-        rgb565(r, g, b).to_be()
-    }
-    fn unpack(p: u16) -> [u32; 3] {
-        un565(u16::from_be(p))
-    }
-    fn bytes(p: u16) -> [u8; 3] {
-        let b = p.to_ne_bytes();
-        [b[0], b[1], 0]
-    }
-}
+rgb565_format!(Rgb565Le, "rgb565le", to_le, from_le);
+rgb565_format!(Rgb565Be, "rgb565be", to_be, from_be);
 
 impl PixelFormat for Rgb888 {
     type Raw = [u8; 3];

@@ -418,6 +418,25 @@ fn sci(x: f64) -> String {
     }
 }
 
+/// The cells of a row in table order, shared by the text and markdown tables.
+fn cells(r: &Row) -> [String; 13] {
+    [
+        r.figure.clone(),
+        r.config.kind.as_str().to_string(),
+        r.config.name().to_string(),
+        sci(r.nmse),
+        r.verdict.to_string(),
+        r.max_channel_error.to_string(),
+        r.coverage_mismatch.to_string(),
+        sci(r.nmse_vs_phong),
+        format!("{:.2}", r.ns_per_px),
+        format!("{:.3}", r.ratio),
+        if r.pareto { "yes" } else { "" }.to_string(),
+        NOT_MEASURED.to_string(),
+        NOT_MEASURED.to_string(),
+    ]
+}
+
 fn text_table(rows: &[Row]) -> String {
     let mut t = String::new();
     let _ = writeln!(
@@ -438,22 +457,11 @@ fn text_table(rows: &[Row]) -> String {
         "instr/px M4"
     );
     for r in rows {
+        let c = cells(r);
         let _ = writeln!(
             t,
-            "{:<8} {:<8} {:<17} {:>10} {:<17} {:>4} {:>6} {:>10} {:>7.2} {:>7.3} {:>6}  {:<12} {:<12}",
-            r.figure,
-            r.config.kind.as_str(),
-            r.config.name(),
-            sci(r.nmse),
-            r.verdict,
-            r.max_channel_error,
-            r.coverage_mismatch,
-            sci(r.nmse_vs_phong),
-            r.ns_per_px,
-            r.ratio,
-            if r.pareto { "yes" } else { "" },
-            NOT_MEASURED,
-            NOT_MEASURED
+            "{:<8} {:<8} {:<17} {:>10} {:<17} {:>4} {:>6} {:>10} {:>7} {:>7} {:>6}  {:<12} {:<12}",
+            c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12]
         );
     }
     t.pop();
@@ -525,23 +533,9 @@ fn markdown(opts: &ReportOptions, rows: &[Row], summary: &str) -> String {
         "|---|---|---|---:|---|---:|---:|---:|---:|---:|---|---|---|"
     );
     for r in rows {
-        let _ = writeln!(
-            m,
-            "| {} | {} | `{}` | {} | {} | {} | {} | {} | {:.2} | {:.3} | {} | {} | {} |",
-            r.figure,
-            r.config.kind.as_str(),
-            r.config.name(),
-            sci(r.nmse),
-            r.verdict,
-            r.max_channel_error,
-            r.coverage_mismatch,
-            sci(r.nmse_vs_phong),
-            r.ns_per_px,
-            r.ratio,
-            if r.pareto { "yes" } else { "" },
-            NOT_MEASURED,
-            NOT_MEASURED
-        );
+        let mut c = cells(r);
+        c[2] = format!("`{}`", c[2]);
+        let _ = writeln!(m, "| {} |", c.join(" | "));
     }
     let _ = writeln!(
         m,
