@@ -15,13 +15,23 @@
 use crate::geometry::Viewport;
 use crate::raster::GUARD;
 
-/// A polygon vertex: clip coordinates and colour (target units, Q.16).
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
-pub struct ClipVertex {
+/// A polygon vertex: clip coordinates and `N` attributes interpolated with it: the
+/// colour (target units, Q.16) for Gouraud, or normal and eye position for Phong.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct ClipVertex<const N: usize = 3> {
     /// Homogeneous coordinates x, y, z, w.
     pub pos: [i64; 4],
-    /// Colour channels.
-    pub c: [i32; 3],
+    /// Attributes (colour channels by default).
+    pub c: [i32; N],
+}
+
+impl<const N: usize> Default for ClipVertex<N> {
+    fn default() -> Self {
+        ClipVertex {
+            pos: [0; 4],
+            c: [0; N],
+        }
+    }
 }
 
 /// Largest number of vertices a triangle clipped by six planes can have.
@@ -29,9 +39,9 @@ pub const MAX_POLY: usize = 9;
 
 /// A clipped convex polygon.
 #[derive(Copy, Clone, Debug)]
-pub struct Polygon {
+pub struct Polygon<const N: usize = 3> {
     /// Vertices; the first `len` are valid.
-    pub v: [ClipVertex; MAX_POLY],
+    pub v: [ClipVertex<N>; MAX_POLY],
     /// Number of vertices.
     pub len: usize,
 }
@@ -56,7 +66,7 @@ fn distance(k: usize, p: &[i64; 4], vp: &Viewport) -> i128 {
 
 /// Clips triangle `t` to the view volume and guard band. The result has 0 or 3..=9
 /// vertices.
-pub fn clip_triangle(t: [ClipVertex; 3], vp: &Viewport) -> Polygon {
+pub fn clip_triangle<const N: usize>(t: [ClipVertex<N>; 3], vp: &Viewport) -> Polygon<N> {
     // Common shift so every coordinate is below 2^40.
     let max = t
         .iter()
@@ -100,7 +110,7 @@ pub fn clip_triangle(t: [ClipVertex; 3], vp: &Viewport) -> Polygon {
     cur
 }
 
-fn push(p: &mut Polygon, v: ClipVertex) {
+fn push<const N: usize>(p: &mut Polygon<N>, v: ClipVertex<N>) {
     // A convex polygon gains at most one vertex per plane: 3 + 6 = MAX_POLY.
     if p.len < MAX_POLY {
         p.v[p.len] = v;
@@ -109,7 +119,12 @@ fn push(p: &mut Polygon, v: ClipVertex) {
 }
 
 /// The point where the segment a→b crosses the plane: `a + (b − a)·da/(da − db)`.
-fn intersect(a: &ClipVertex, b: &ClipVertex, da: i128, db: i128) -> ClipVertex {
+fn intersect<const N: usize>(
+    a: &ClipVertex<N>,
+    b: &ClipVertex<N>,
+    da: i128,
+    db: i128,
+) -> ClipVertex<N> {
     let den = da - db; // non-zero: the signs differ
     let lerp = |x: i128, y: i128| x + (y - x) * da / den;
     ClipVertex {

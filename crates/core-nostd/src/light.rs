@@ -109,6 +109,13 @@ pub trait Specular {
     fn prepare(n: Q16_16) -> Self::Params;
     /// `cⁿ` or its approximation for `c` in Q2.30 (0 < c ≤ 1), result Q2.30 in [0, 1].
     fn eval(p: &Self::Params, c: i32) -> i32;
+    /// The value lighting uses, in Q.30 as `u64`: [`Specular::eval`] for every model
+    /// whose result stays in [0, 1]; a model that may exceed 1 (the energy-conserving
+    /// form peaks near 41) overrides it with its unsaturated value, at most 2³⁶.
+    #[inline]
+    fn eval_wide(p: &Self::Params, c: i32) -> u64 {
+        Self::eval(p, c).max(0) as u64
+    }
 }
 
 /// Exact `cⁿ` (see [`pow_q30`]).
@@ -285,13 +292,26 @@ impl<S: Specular> LightingSetup<S> {
             if nh <= 0 {
                 continue;
             }
-            let s = S::eval(&self.spec, nh.min(ONE_Q30)) as i64;
-            let f = (att * s) >> 30;
+            let s = S::eval_wide(&self.spec, nh.min(ONE_Q30));
+            // att ≤ 2^31 (Q16.16) and s ≤ 2^36 (Q.30): the product needs i128 only
+            // for a point light; a directional light's att is exactly 2^16.
+            let f = if att == 1 << 16 {
+                (s >> 14) as i64
+            } else {
+                ((att as i128 * s as i128) >> 30) as i64
+            };
             for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
                 *c += (sp * f) >> 16;
             }
         }
         acc.map(|c| c.clamp(0, 1 << 16) as i32)
+    }
+}
+
+impl<S: Specular> crate::raster::phong::PixelLight for LightingSetup<S> {
+    #[inline]
+    fn light(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        self.shade(p, n)
     }
 }
 

@@ -509,12 +509,11 @@ impl Affine3 {
     }
 }
 
-/// Normalises an `i64` vector to Q2.30 unit length. `None` for the zero vector.
-/// The components are first shifted so the largest is below 2³¹, then the length is
-/// an exact integer square root of an i64 sum of squares (< 3·2⁶²... bounded by
-/// shifting to below 2³⁰·√(2) per component).
+/// Shifts a non-zero vector so its largest component lies in [2²⁹, 2³⁰) and returns
+/// the shifted components with their sum of squares (in [2⁵⁸, 3·2⁶⁰): squares
+/// < 2⁶⁰, sum < 2⁶²). `None` for the zero vector.
 #[inline]
-pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
+fn scale_for_length(v: [i64; 3]) -> Option<(i64, i64, i64, u64)> {
     let max = v[0]
         .unsigned_abs()
         .max(v[1].unsigned_abs())
@@ -522,12 +521,20 @@ pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     if max == 0 {
         return None;
     }
-    // Scale so max is in [2^29, 2^30): squares < 2^60, sum < 2^62.
     let bits = 64 - max.leading_zeros() as i32;
     let shift = bits - 30;
     let s = |c: i64| if shift >= 0 { c >> shift } else { c << -shift };
     let (x, y, z) = (s(v[0]), s(v[1]), s(v[2]));
-    let sq = (x * x + y * y + z * z) as u64;
+    Some((x, y, z, (x * x + y * y + z * z) as u64))
+}
+
+/// Normalises an `i64` vector to Q2.30 unit length. `None` for the zero vector.
+/// The components are first shifted so the largest is below 2³¹, then the length is
+/// an exact integer square root of an i64 sum of squares (< 3·2⁶²... bounded by
+/// shifting to below 2³⁰·√(2) per component).
+#[inline]
+pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
+    let (x, y, z, sq) = scale_for_length(v)?;
     let len = isqrt_u64(sq) as i64; // ≥ 2^29
     if len == 0 {
         return None;
@@ -536,6 +543,59 @@ pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     // |c|·inv < 2^30·2^32 fits i64; the result is within one unit of c·2^30/len.
     let inv = (1i64 << 61) / len;
     let d = |c: i64| ((c * inv + (1 << 30)) >> 31) as i32;
+    Some([d(x), d(y), d(z)])
+}
+
+/// Seeds of [`rsqrt_q61`]: `RSQRT_SEED[i] ≈ 2⁶¹ / √((i + 64.5)·2⁵⁴)` for the top eight
+/// bits `i + 64` of an argument in [2⁶⁰, 2⁶²), computed at compile time with exact
+/// integer square roots. 192 entries × 4 bytes = 768 bytes of flash; relative
+/// error below 2⁻⁸.
+const RSQRT_SEED: [u32; 192] = {
+    let mut t = [0u32; 192];
+    let mut i = 0;
+    while i < 192 {
+        // 2⁶¹/√((i + 64.5)·2⁵⁴) = √(2¹²²/((2i + 129)·2⁵³)) = √(2⁶⁹/(2i + 129)).
+        let sq = (1u128 << 69) / (2 * i as u128 + 129);
+        t[i] = isqrt_u128(sq) as u32;
+        i += 1;
+    }
+    t
+};
+
+/// `⌊2⁶¹/√s⌋` to within 4 units, for `s` in [2⁶⁰, 2⁶²): a table seed
+/// ([`RSQRT_SEED`], 8 bits) and two Newton steps `r ← r·(3 − s·r²)/2`, each in
+/// 64-bit products (no division, no square root).
+///
+/// Bounds: `r` ∈ (2³⁰, 2³¹]; `r²/2³²` < 2³⁰; times `s/2³⁰` < 2³² gives < 2⁶²;
+/// `3·2³⁰ − y` ∈ (0, 2³²) for y within 2⁻⁷ of 2³⁰, and `r·(3·2³⁰ − y)` < 2⁶³.
+#[inline]
+pub fn rsqrt_q61(s: u64) -> u64 {
+    let mut r = RSQRT_SEED[((s >> 54) - 64) as usize] as u64;
+    let sn = s >> 30; // [2^30, 2^32)
+    let mut k = 0;
+    while k < 2 {
+        // y = s·r²/2¹²² in Q30 ≈ 2³⁰.
+        let y = (((r * r) >> 32) * sn) >> 30;
+        r = (r * ((3u64 << 30) - y)) >> 31;
+        k += 1;
+    }
+    r
+}
+
+/// Normalises like [`normalize_to_q30`], but with the reciprocal square root of
+/// [`rsqrt_q61`] instead of an integer square root and a division: the per-pixel
+/// renormalisation of Phong shading. Each component is within 4 units (Q2.30) of
+/// [`normalize_to_q30`]'s (tested).
+#[inline]
+pub fn normalize_fast_q30(v: [i64; 3]) -> Option<[i32; 3]> {
+    let (x, y, z, sq) = scale_for_length(v)?;
+    // Bring the sum into [2^60, 2^62) with an even shift 2j (j = 0 or 1):
+    // √(sq·4^j) = len·2^j.
+    let j = if sq < 1 << 60 { 1 } else { 0 };
+    let r = rsqrt_q61(sq << (2 * j)) as i64; // 2^61/(len·2^j), in (2^30, 2^31]
+                                             // c·2^30/len = c·r·2^j/2^31; |c| < 2^30, r ≤ 2^31: the product is below 2^61.
+    let sh = 31 - j;
+    let d = |c: i64| ((c * r + (1 << (sh - 1))) >> sh) as i32;
     Some([d(x), d(y), d(z)])
 }
 
@@ -675,6 +735,36 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn fast_normalize_matches_exact() {
+        let mut worst = 0;
+        let mut seed = 0x1234_5678_9abc_def0u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for k in 0..200_000 {
+            let mag = (k % 60) as u32 + 1;
+            let v: [i64; 3] = core::array::from_fn(|_| (next() as i64) >> (64 - mag));
+            let (a, b) = (normalize_to_q30(v), normalize_fast_q30(v));
+            assert_eq!(a.is_some(), b.is_some(), "{v:?}");
+            if let (Some(a), Some(b)) = (a, b) {
+                for i in 0..3 {
+                    worst = worst.max((a[i] - b[i]).abs());
+                }
+            }
+        }
+        // Also the extremes of the seed table.
+        for s in [1u64 << 60, (1u64 << 62) - 1, 3 << 59, (65 << 54) - 1] {
+            let r = rsqrt_q61(s) as f64;
+            let want = (1u64 << 61) as f64 / (s as f64).sqrt();
+            assert!((r - want).abs() <= 4.0, "s={s} r={r} want={want}");
+        }
+        assert!(worst <= 4, "worst {worst}");
     }
 
     #[test]

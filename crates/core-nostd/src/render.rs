@@ -59,13 +59,14 @@ use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
+use crate::raster::phong::{self, draw_phong, PhongFill, PhongVertex};
 use crate::raster::quadratic::draw_quadratic;
 use crate::raster::span::Gradient;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use crate::raster::{draw_triangle, ScreenVertex, GUARD};
 use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
-use crate::shade::{Flat, Gouraud, Quadratic, Shading};
-use crate::target::{PixelFormat, Target};
+use crate::shade::{Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
+use crate::target::{to_channels, PixelFormat, Target};
 
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
 /// target's channel units, and flags.
@@ -208,69 +209,29 @@ struct Prepared {
     offset: usize,
 }
 
-/// A lit colour callback: eye-space position (Q16.16) and unit normal (Q2.30) to a
-/// Q16.16 colour.
-pub type ShadeFn<'f> = &'f dyn Fn([i32; 3], [i32; 3]) -> [i32; 3];
-
-/// Builds an object's [`LightingSetup`] for the specular model the frame was
-/// prepared with and hands its `shade` to the callback (the specular model is a type
-/// parameter of `prepare_with`, erased here so `Frame` stays one type).
-type LightingFn = fn(&Scene<'_>, &Object<'_>, &Mat4, &mut dyn FnMut(ShadeFn<'_>));
-
-fn with_lighting<Sp: Specular>(
-    scene: &Scene<'_>,
-    obj: &Object<'_>,
-    view: &Mat4,
-    f: &mut dyn FnMut(ShadeFn<'_>),
-) {
-    let light = LightingSetup::<Sp>::new(
-        &scene.lights,
-        view,
-        &obj.material,
-        scene.global_ambient,
-        scene.local_viewer,
-    );
-    f(&|p, n| light.shade(p, n));
-}
-
 /// A frame whose vertex stage has run; draw it into one or more targets.
 ///
-/// Quadratic shading needs colours lit at the edge midpoints at draw time. Rather
-/// than keeping eye-space positions and normals per vertex (24 more bytes per cache
-/// entry, paid on every path) or per-object lighting setups in the frame (about 1 KB
-/// for 16 objects), the draw recomputes each object's model-view [`Affine3`] and
+/// `Sp` is the specular model ([`BlinnExact`] unless prepared with
+/// [`Frame::prepare_with`]); every shading mode uses it.
+///
+/// Quadratic and Phong shading light points inside the triangle at draw time.
+/// Rather than keeping eye-space positions and normals per vertex (24 more bytes per
+/// cache entry, paid on every path) or per-object lighting setups in the frame (about
+/// 1 KB per object), the draw recomputes each object's model-view [`Affine3`] and
 /// [`LightingSetup`] (a few dozen multiplies and 8 normalisations per object) and
-/// lights each midpoint from the mesh: position = the model-space midpoint through
-/// the affine map (the average of the eye positions), normal = the normal matrix
-/// applied to `n_a + n_b`, normalised. The model-view is a similarity (rigid view,
-/// uniform scale), so that equals `normalize(n̂_a + n̂_b)` of the eye-space unit
-/// normals. The frame only grows by one function pointer.
-pub struct Frame<'s, 'a, 'c, P: PixelFormat> {
+/// takes positions and normals from the mesh: position through the affine map,
+/// normal through the normal matrix, normalised. The model-view is a similarity
+/// (rigid view, uniform scale), so a midpoint normal `normal_matrix·(n_a + n_b)`
+/// normalised equals `normalize(n̂_a + n̂_b)` of the eye-space unit normals.
+pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
     scene: &'s Scene<'a>,
-    lighting: LightingFn,
     cache: &'c [XfVertex],
     objects: heapless::Vec<Prepared, MAX_OBJECTS>,
     vp: Viewport,
-    _format: PhantomData<P>,
+    _format: PhantomData<(P, Sp)>,
 }
 
-/// Converts a lit Q16.16 colour (0..=1) to the format's channel units in Q.16.
-/// `c·MAX` ≤ 2¹⁶·255 < 2²⁴; for grey, `(77r + 150g + 29b)·255` < 2³²·… is taken in i64.
-#[inline]
-fn to_channels<P: PixelFormat>(c: [i32; 3]) -> [i32; 3] {
-    if P::GRAY {
-        let y = 77 * c[0] as i64 + 150 * c[1] as i64 + 29 * c[2] as i64;
-        [((y * 255) >> 8) as i32, 0, 0]
-    } else {
-        [
-            c[0] * P::MAX[0] as i32,
-            c[1] * P::MAX[1] as i32,
-            c[2] * P::MAX[2] as i32,
-        ]
-    }
-}
-
-impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
+impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
     /// Runs the vertex stage with exact Blinn specular ([`BlinnExact`]).
     pub fn prepare(
         scene: &'s Scene<'a>,
@@ -287,7 +248,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
         width: u32,
         height: u32,
         cache: &'c mut [XfVertex],
-    ) -> Result<Self, RenderError> {
+    ) -> Result<Frame<'s, 'a, 'c, P, Sp>, RenderError> {
         if width == 0 || width > 4096 || height == 0 || height > 4096 {
             return Err(RenderError::BadSize);
         }
@@ -341,21 +302,11 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
                 }
             }
             // 3. Light the vertices that are needed.
-            let nm = &aff.normal;
             for ((o, p), n) in out.iter_mut().zip(mesh.positions()).zip(mesh.normals()) {
                 if o.flags & NEEDED == 0 {
                     continue;
                 }
-                let nv = [
-                    n[0].to_bits() as i64,
-                    n[1].to_bits() as i64,
-                    n[2].to_bits() as i64,
-                ];
-                // Entries < 2^31, components < 2^15: sums of three < 2^48.
-                let ne: [i64; 3] = core::array::from_fn(|r| {
-                    nm[r][0] as i64 * nv[0] + nm[r][1] as i64 * nv[1] + nm[r][2] as i64 * nv[2]
-                });
-                let unit = normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30]);
+                let unit = eye_normal(&aff, n);
                 o.s.c = to_channels::<P>(light.shade(aff.point(p), unit));
             }
             // Capacity equals the scene's object capacity.
@@ -364,12 +315,24 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
         }
         Ok(Frame {
             scene,
-            lighting: with_lighting::<Sp>,
             cache,
             objects,
             vp,
             _format: PhantomData,
         })
+    }
+}
+
+impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
+    /// Builds an object's lighting setup for this frame's specular model.
+    fn lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
+        LightingSetup::<Sp>::new(
+            &self.scene.lights,
+            view,
+            &obj.material,
+            self.scene.global_ambient,
+            self.scene.local_viewer,
+        )
     }
 
     /// Draws with the scene's depth and shading settings and the span method `S`.
@@ -384,13 +347,21 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
             (false, ShadingMode::Flat) => self.draw_with::<S, NoDepth, Flat, T>(target),
             (true, ShadingMode::Quadratic) => self.draw_with::<S, DepthTest, Quadratic, T>(target),
             (false, ShadingMode::Quadratic) => self.draw_with::<S, NoDepth, Quadratic, T>(target),
+            (true, ShadingMode::Phong) => self.draw_with::<S, DepthTest, Phong, T>(target),
+            (false, ShadingMode::Phong) => self.draw_with::<S, NoDepth, Phong, T>(target),
+            (true, ShadingMode::PhongEvenOdd) => {
+                self.draw_with::<S, DepthTest, PhongEvenOdd, T>(target)
+            }
+            (false, ShadingMode::PhongEvenOdd) => {
+                self.draw_with::<S, NoDepth, PhongEvenOdd, T>(target)
+            }
         }
     }
 
     /// Draws with every variant chosen by type: span method, depth mode, shading.
     ///
-    /// A quadratic shading ([`Shading::QUADRATIC`]) has its own fill and ignores
-    /// `S`; its coverage is that of [`Gradient`].
+    /// Quadratic ([`Shading::QUADRATIC`]) and Phong ([`Shading::PER_PIXEL`]) shading
+    /// have their own fills and ignore `S`; their coverage is that of [`Gradient`].
     pub fn draw_with<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
         &self,
         target: &mut T,
@@ -400,6 +371,13 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
         }
         if Sh::QUADRATIC {
             return self.draw_quadratic::<Z, Sh, T>(target);
+        }
+        if Sh::PER_PIXEL {
+            return if Sh::EVEN_ODD {
+                self.draw_phong::<Z, phong::EvenOdd, T>(target)
+            } else {
+                self.draw_phong::<Z, phong::Rows, T>(target)
+            };
         }
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
@@ -470,7 +448,9 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
             let nm = &aff.normal;
-            (self.lighting)(self.scene, obj, &view, &mut |shade: ShadeFn<'_>| {
+            let light = self.lighting(obj, &view);
+            {
+                let shade = |p: [i32; 3], n: [i32; 3]| light.shade(p, n);
                 // The colour lit at the midpoint of the edge a–b.
                 let mid = |a: usize, b: usize, ca: [i32; 3], cb: [i32; 3]| -> [i32; 3] {
                     let m: Vec3 = core::array::from_fn(|k| {
@@ -518,7 +498,96 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
                         }
                     }
                 }
-            });
+            }
+        }
+        Ok(st)
+    }
+
+    /// The Phong path of [`Frame::draw_with`]: eye-space normals and positions from
+    /// the mesh (see [`Frame`]), every covered pixel lit with this frame's
+    /// [`LightingSetup`]. Clipped triangles carry normal and position through the
+    /// clipper as six attributes, so they are Phong-shaded too.
+    fn draw_phong<Z: DepthMode, F: PhongFill, T: Target<P>>(
+        &self,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (i, (obj, prep)) in self
+            .scene
+            .objects
+            .iter()
+            .zip(self.objects.iter())
+            .enumerate()
+        {
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let light = self.lighting(obj, &view);
+            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
+            // Eye-space unit normal and position of mesh vertex `i`.
+            let eye = |i: usize| -> ([i32; 3], [i32; 3]) {
+                (eye_normal(&aff, &nrm[i]), aff.point(&pos[i]))
+            };
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t = tri.map(|i| verts[i as usize]);
+                match classify(&t, cull, &self.vp, rows.clone()) {
+                    Class::Skip => st.culled += 1,
+                    Class::Draw => {
+                        let pv = core::array::from_fn(|k| {
+                            let (n, p) = eye(tri[k] as usize);
+                            let s = t[k].s;
+                            PhongVertex {
+                                x: s.x,
+                                y: s.y,
+                                z: s.z,
+                                n,
+                                p,
+                            }
+                        });
+                        st.drawn += 1;
+                        st.pixels += draw_phong::<P, T, Z, F, _>(target, pv, &light);
+                    }
+                    Class::Clip => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                            let (n, p) = eye(tri[k] as usize);
+                            ClipVertex {
+                                pos: prep.clip.transform(&pos[tri[k] as usize]),
+                                c: [n[0], n[1], n[2], p[0], p[1], p[2]],
+                            }
+                        });
+                        let poly = clip_triangle(cv, &self.vp);
+                        let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
+                        for (o, v) in pv.iter_mut().zip(poly.v[..poly.len].iter()) {
+                            let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
+                                continue;
+                            };
+                            let c = v.c;
+                            *o = PhongVertex {
+                                x,
+                                y,
+                                z,
+                                n: [c[0], c[1], c[2]],
+                                p: [c[3], c[4], c[5]],
+                            };
+                        }
+                        for k in 1..poly.len.saturating_sub(1) {
+                            let tri = [pv[0], pv[k], pv[k + 1]];
+                            let pts = tri.map(|v| (v.x, v.y));
+                            let area = crate::clip::signed_area(pts[0], pts[1], pts[2]);
+                            if area == 0 || (cull && !is_front(pts[0], pts[1], pts[2])) {
+                                continue;
+                            }
+                            st.drawn += 1;
+                            st.pixels += draw_phong::<P, T, Z, F, _>(target, tri, &light);
+                        }
+                    }
+                }
+            }
         }
         Ok(st)
     }
@@ -557,6 +626,18 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P> {
             st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, tri);
         }
     }
+}
+
+/// The eye-space unit normal (Q2.30) of a mesh normal under `aff`'s normal matrix;
+/// `(0, 0, 1)` for a zero normal.
+fn eye_normal(aff: &Affine3, n: &[crate::fixed::Q2_14; 3]) -> [i32; 3] {
+    let nm = &aff.normal;
+    let nv = n.map(|c| c.to_bits() as i64);
+    // Entries < 2^31, components < 2^15: sums of three < 2^48.
+    let ne: [i64; 3] = core::array::from_fn(|r| {
+        nm[r][0] as i64 * nv[0] + nm[r][1] as i64 * nv[1] + nm[r][2] as i64 * nv[2]
+    });
+    normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30])
 }
 
 /// Projects a clipped vertex: like [`Viewport::project`] but clamps what rounding in

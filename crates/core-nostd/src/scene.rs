@@ -144,6 +144,10 @@ pub enum ShadingMode {
     /// Quadratic intensity surface through the vertex and edge-midpoint colours
     /// (seed 003; [`crate::shade::Quadratic`]).
     Quadratic,
+    /// Per-pixel lighting from interpolated normals ([`crate::shade::Phong`]).
+    Phong,
+    /// Phong with the even/odd fill ([`crate::shade::PhongEvenOdd`], same pixels).
+    PhongEvenOdd,
 }
 
 /// Everything a frame needs.

@@ -5,6 +5,7 @@
 //! [`Quadratic`] fits a quadratic intensity surface through the vertex colours and
 //! the colours lit at the edge midpoints (seed 003), filled in 2×2 blocks;
 //! [`QuadraticRows`] is the same surface filled row by row (bit-identical).
+//! [`Phong`] and [`PhongEvenOdd`] light every pixel from interpolated normals.
 //! The choice is a type, so the span loop of a flat triangle carries no colour
 //! interpolation at all.
 
@@ -21,6 +22,11 @@ pub trait Shading {
     const QUADRATIC: bool = false;
     /// How the quadratic surface is filled (only read when `QUADRATIC`).
     const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Blocks;
+    /// True for Phong shading: [`crate::render::Frame`] interpolates normals and
+    /// eye positions and lights every pixel ([`crate::raster::phong`]).
+    const PER_PIXEL: bool = false;
+    /// With `PER_PIXEL`: the even/odd fill (two accumulators per attribute).
+    const EVEN_ODD: bool = false;
 }
 
 /// One colour per triangle: its provoking (last) vertex's.
@@ -61,4 +67,25 @@ impl Shading for QuadraticRows {
     const INTERPOLATE: bool = true;
     const QUADRATIC: bool = true;
     const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Rows;
+}
+
+/// Phong shading: normals and eye positions interpolated, every pixel lit.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Phong;
+
+/// Phong shading with the even/odd fill of seed 003 (same pixels as [`Phong`]).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct PhongEvenOdd;
+
+impl Shading for Phong {
+    const NAME: &'static str = "phong";
+    const INTERPOLATE: bool = true;
+    const PER_PIXEL: bool = true;
+}
+
+impl Shading for PhongEvenOdd {
+    const NAME: &'static str = "phong-even-odd";
+    const INTERPOLATE: bool = true;
+    const PER_PIXEL: bool = true;
+    const EVEN_ODD: bool = true;
 }

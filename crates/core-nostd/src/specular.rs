@@ -27,7 +27,8 @@
 //! calls with 0 < c ≤ 1); `n` is clamped to [1, 1000] by `prepare`. Results are Q2.30;
 //! every model but the energy-conserving one stays in [0, 1] and gives exactly 1 at
 //! c = 1; the energy-conserving one peaks at k = (n + 6)/24.55 (up to ≈ 41) and
-//! saturates at 2 − 2⁻³⁰, the top of Q2.30 (see [`CosQuadraticEnergy`]). At c = 0 Schlick, modified Schlick and the quadratic give 0; the two
+//! saturates `eval` at 2 − 2⁻³⁰, the top of Q2.30; lighting calls
+//! [`Specular::eval_wide`], which keeps the full value (see [`CosQuadraticEnergy`]). At c = 0 Schlick, modified Schlick and the quadratic give 0; the two
 //! cosine-quadratic forms give 0 for n ≥ 2 and the formula's `(1 − σ)²` (times the
 //! factor) for 1 ≤ n < 2, where their zero point (σ − 1)/σ is negative. Every model
 //! is non-decreasing in `c`. Parameters that need more fraction bits than Q16.16 are
@@ -693,6 +694,13 @@ impl Specular for CosQuadraticEnergy {
     #[inline]
     fn eval(p: &CosQuadEnergyParams, c: i32) -> i32 {
         Self::eval_wide(p, c).min(i32::MAX as u64) as i32
+    }
+
+    /// The unsaturated value (the inherent [`CosQuadraticEnergy::eval_wide`]): the
+    /// lighting stage uses it, so highlights brighter than 1 reach the colour clamp.
+    #[inline]
+    fn eval_wide(p: &CosQuadEnergyParams, c: i32) -> u64 {
+        CosQuadraticEnergy::eval_wide(p, c)
     }
 }
 

@@ -315,6 +315,22 @@ impl<P: PixelFormat> Target<P> for Strip<'_, P> {
     }
 }
 
+/// Converts a lit Q16.16 colour (0..=1) to the format's channel units in Q.16.
+/// `c·MAX` ≤ 2¹⁶·255 < 2²⁴; for grey, `(77r + 150g + 29b)·255` < 2³²·… is taken in i64.
+#[inline]
+pub fn to_channels<P: PixelFormat>(c: [i32; 3]) -> [i32; 3] {
+    if P::GRAY {
+        let y = 77 * c[0] as i64 + 150 * c[1] as i64 + 29 * c[2] as i64;
+        [((y * 255) >> 8) as i32, 0, 0]
+    } else {
+        [
+            c[0] * P::MAX[0] as i32,
+            c[1] * P::MAX[1] as i32,
+            c[2] * P::MAX[2] as i32,
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

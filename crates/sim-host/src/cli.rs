@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use crate::compare::compare;
-use crate::desc::{FormatName, Named, ShadingName, SpanName};
+use crate::desc::{FormatName, Named, ShadingName, SpanName, SpecularName};
 use crate::image::Image;
 use crate::pipeline::{self, LoadedScene};
 
@@ -15,14 +15,15 @@ USAGE:
     fixshade                      render the demo figures (sphere, teapot, robot)
                                   into out/ and print a table against the f64 reference
     fixshade render SCENE -o OUT.png [--span METHOD] [--shading MODE] [--format FMT]
-                                  [--strip ROWS]
+                                  [--specular MODEL] [--strip ROWS]
     fixshade reference SCENE -o OUT.png [--phong]
     fixshade compare REF.png TEST.png [--json]
     fixshade report [--quick] [--out DIR]
                                   accuracy against time for every span method and
                                   shading mode: a table, and DIR/accuracy-vs-time.{md,csv,png}
                                   (DIR: docs/, or out/report-quick/ with --quick)
-    fixshade list                 built-in scenes, span methods, shading modes, formats
+    fixshade list                 built-in scenes, span methods, shading modes,
+                                  specular models, formats
     fixshade help                 this text
 
 SCENE is a scene file (TOML) or a built-in scene: sphere, teapot, robot, bench-sphere.
@@ -58,6 +59,7 @@ struct Opts {
     output: Option<PathBuf>,
     span: Option<SpanName>,
     shading: Option<ShadingName>,
+    specular: Option<SpecularName>,
     format: Option<FormatName>,
     strip: Option<u32>,
     phong: bool,
@@ -88,6 +90,7 @@ fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
             "--span" => o.span = Some(SpanName::parse(&value(a)?).map_err(usage)?),
             "--shading" => o.shading = Some(ShadingName::parse(&value(a)?).map_err(usage)?),
             "--format" => o.format = Some(FormatName::parse(&value(a)?).map_err(usage)?),
+            "--specular" => o.specular = Some(SpecularName::parse(&value(a)?).map_err(usage)?),
             "--strip" => {
                 let v = value(a)?;
                 let n: u32 =
@@ -120,6 +123,9 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     }
     if let Some(f) = o.format {
         d.format = f;
+    }
+    if let Some(s) = o.specular {
+        d.specular = s;
     }
     pipeline::load(arg, &d, &dir).map_err(fail)
 }
@@ -154,6 +160,7 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                     "--span",
                     "--shading",
                     "--format",
+                    "--specular",
                     "--strip",
                 ],
             )?;
@@ -240,10 +247,11 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
 fn list() -> String {
     let names = |all: &[&str]| all.join(", ");
     format!(
-        "built-in scenes: {}\nspan methods: {}\nshading modes: {}\npixel formats: {}",
+        "built-in scenes: {}\nspan methods: {}\nshading modes: {}\nspecular models: {}\npixel formats: {}",
         names(crate::scene_file::BUILTIN_SCENES),
         names(&SpanName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
         names(&ShadingName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
+        names(&SpecularName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
         names(&FormatName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
     )
 }

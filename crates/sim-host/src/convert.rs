@@ -235,6 +235,8 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
         ShadingName::Flat => ShadingMode::Flat,
         ShadingName::Gouraud => ShadingMode::Gouraud,
         ShadingName::Quadratic => ShadingMode::Quadratic,
+        ShadingName::Phong => ShadingMode::Phong,
+        ShadingName::PhongEvenOdd => ShadingMode::PhongEvenOdd,
     };
     for (o, m) in d.objects.iter().zip(meshes) {
         let mesh = m

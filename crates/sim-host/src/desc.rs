@@ -176,6 +176,37 @@ pub enum ShadingName {
     /// Quadratic intensity surface through the vertex and edge-midpoint colours
     /// (seed 003); its reference is the exact Phong render.
     Quadratic,
+    /// Per-pixel lighting from interpolated normals.
+    Phong,
+    /// Phong with the even/odd fill of seed 003 (the same pixels).
+    PhongEvenOdd,
+}
+
+impl ShadingName {
+    /// True if the matching f64 reference is the per-pixel (Phong) render.
+    pub fn phong_reference(self) -> bool {
+        matches!(
+            self,
+            ShadingName::Quadratic | ShadingName::Phong | ShadingName::PhongEvenOdd
+        )
+    }
+}
+
+/// Specular model by name (the `Specular` implementations of the core).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpecularName {
+    /// Exact `cⁿ`.
+    Exact,
+    /// Schlick's `c / (n − n·c + c)`.
+    Schlick,
+    /// The seed's modified Schlick.
+    SchlickMod,
+    /// `a·c² + (1 − a)·c` with the tabulated `a(n)`.
+    Quadratic,
+    /// `(σ(c − 1) + 1)²`, σ = (n + 1)/3.
+    CosQuad,
+    /// The energy-conserving cosine-quadratic form.
+    CosQuadEnergy,
 }
 
 /// Span method by name.
@@ -244,6 +275,8 @@ pub struct SceneDesc {
     pub depth_test: bool,
     /// Reference renderer: perspective-correct instead of screen-affine interpolation.
     pub perspective_correct: bool,
+    /// Specular model of the fixed-point renderer (the reference is always exact).
+    pub specular: SpecularName,
 }
 
 /// Names of the variants of an enum selectable by name in scene files and on the
@@ -300,6 +333,20 @@ impl Named for ShadingName {
         (ShadingName::Flat, "flat"),
         (ShadingName::Gouraud, "gouraud"),
         (ShadingName::Quadratic, "quadratic"),
+        (ShadingName::Phong, "phong"),
+        (ShadingName::PhongEvenOdd, "phong-even-odd"),
+    ];
+}
+
+impl Named for SpecularName {
+    const WHAT: &'static str = "specular model";
+    const ALL: &'static [(Self, &'static str)] = &[
+        (SpecularName::Exact, "exact"),
+        (SpecularName::Schlick, "schlick"),
+        (SpecularName::SchlickMod, "schlick-mod"),
+        (SpecularName::Quadratic, "quadratic"),
+        (SpecularName::CosQuad, "cos-quad"),
+        (SpecularName::CosQuadEnergy, "cos-quad-energy"),
     ];
 }
 
@@ -359,7 +406,21 @@ mod tests {
             ShadingName::Flat,
             ShadingName::Gouraud,
             ShadingName::Quadratic,
+            ShadingName::Phong,
+            ShadingName::PhongEvenOdd,
         ]);
+        use SpecularName as Sp;
+        round_trips(&[
+            Sp::Exact,
+            Sp::Schlick,
+            Sp::SchlickMod,
+            Sp::Quadratic,
+            Sp::CosQuad,
+            Sp::CosQuadEnergy,
+        ]);
+        // The names are the core's.
+        let names: Vec<&str> = Sp::ALL.iter().map(|(_, n)| *n).collect();
+        assert_eq!(names, fixshade::specular::NAMES);
         round_trips(&[
             FormatName::Rgb565Le,
             FormatName::Rgb565Be,

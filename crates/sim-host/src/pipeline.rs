@@ -13,6 +13,7 @@ use crate::{mesh, scene_file};
 use fixshade::raster::span::NoDepth;
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::shade::Flat;
+use fixshade::specular::Specular;
 use fixshade::target::{Framebuffer, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
 
 /// A scene with its meshes built and quantised, ready for both renderers.
@@ -86,6 +87,12 @@ pub fn background8(desc: &SceneDesc) -> [u8; 3] {
         desc.format,
         background_channels(desc.format, desc.background),
     )
+}
+
+/// The exact f64 reference that matches the scene's shading: per-pixel lighting
+/// for Phong and the quadratic surface, the scene's own shading otherwise.
+pub fn matching_reference(ls: &LoadedScene) -> Image {
+    reference(ls, ls.desc.shading.phong_reference())
 }
 
 /// The f64 reference render, with the background quantised like the core's.
@@ -205,8 +212,45 @@ macro_rules! with_span_method {
     }};
 }
 
-fn span_dispatch<P: PixelFormat>(
-    frame: &Frame<'_, '_, '_, P>,
+/// Runs `$body` with the type `$Sp` bound to the specular model named by `$name`.
+#[macro_export]
+macro_rules! with_specular {
+    ($name:expr, $Sp:ident => $body:expr) => {{
+        use fixshade::specular::{
+            BlinnExact, CosQuadratic, CosQuadraticEnergy, Quadratic, Schlick, SchlickModified,
+        };
+        use $crate::desc::SpecularName as N;
+        match $name {
+            N::Exact => {
+                type $Sp = BlinnExact;
+                $body
+            }
+            N::Schlick => {
+                type $Sp = Schlick;
+                $body
+            }
+            N::SchlickMod => {
+                type $Sp = SchlickModified;
+                $body
+            }
+            N::Quadratic => {
+                type $Sp = Quadratic;
+                $body
+            }
+            N::CosQuad => {
+                type $Sp = CosQuadratic;
+                $body
+            }
+            N::CosQuadEnergy => {
+                type $Sp = CosQuadraticEnergy;
+                $body
+            }
+        }
+    }};
+}
+
+fn span_dispatch<P: PixelFormat, Sp: Specular>(
+    frame: &Frame<'_, '_, '_, P, Sp>,
     span: SpanName,
     fb: &mut impl fixshade::target::Target<P>,
 ) -> Result<Stats, String> {
@@ -217,6 +261,13 @@ fn run_core<P: PixelFormat>(
     ls: &LoadedScene,
     strip_rows: Option<u32>,
 ) -> Result<(Vec<P::Raw>, Stats), String> {
+    with_specular!(ls.desc.specular, Sp => run_core_with::<P, Sp>(ls, strip_rows))
+}
+
+fn run_core_with<P: PixelFormat, Sp: Specular>(
+    ls: &LoadedScene,
+    strip_rows: Option<u32>,
+) -> Result<(Vec<P::Raw>, Stats), String> {
     let d = &ls.desc;
     let scene = core_scene(d, &ls.fixed)?;
     let (w, h) = (d.width, d.height);
@@ -224,7 +275,8 @@ fn run_core<P: PixelFormat>(
     let bgc = background_channels(d.format, d.background);
     let bg = P::pack(bgc[0], bgc[1], bgc[2]);
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
-    let frame = Frame::<P>::prepare(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
+    let frame =
+        Frame::<P>::prepare_with::<Sp>(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
     let mut color = vec![bg; n];
     let mut stats = Stats::default();
     match strip_rows {
@@ -272,9 +324,12 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     let mut mask = vec![0u8; w as usize * h as usize];
     let mut fb = Framebuffer::<Mask>::new(&mut mask, None, w, h).map_err(|e| e.to_string())?;
     // The same span method as the colour pass: methods that move vertices
-    // (sierpinski) change coverage too. The quadratic surface has its own fill,
-    // which ignores the span method and covers what `gradient` covers.
-    if d.shading == ShadingName::Quadratic {
+    // (sierpinski) change coverage too. The quadratic surface and Phong have their
+    // own fills, which ignore the span method and cover what `gradient` covers.
+    if matches!(
+        d.shading,
+        ShadingName::Quadratic | ShadingName::Phong | ShadingName::PhongEvenOdd
+    ) {
         frame.draw_with::<fixshade::raster::span::Gradient, NoDepth, Flat, _>(&mut fb)
     } else {
         with_span_method!(d.span, S => frame.draw_with::<S, NoDepth, Flat, _>(&mut fb))
@@ -331,6 +386,12 @@ pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, Strin
 /// excluded) over `runs` runs.
 pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
     fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+        with_specular!(ls.desc.specular, Sp => go_with::<P, Sp>(ls, runs))
+    }
+    fn go_with<P: PixelFormat, Sp: Specular>(
+        ls: &LoadedScene,
+        runs: usize,
+    ) -> Result<Duration, String> {
         let d = &ls.desc;
         let scene = core_scene(d, &ls.fixed)?;
         let (w, h) = (d.width, d.height);
@@ -342,7 +403,8 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         for _ in 0..runs.max(1) {
             depth.fill(0xFFFF);
             let t = Instant::now();
-            let frame = Frame::<P>::prepare(&scene, w, h, &mut cache).map_err(|e| e.to_string())?;
+            let frame = Frame::<P>::prepare_with::<Sp>(&scene, w, h, &mut cache)
+                .map_err(|e| e.to_string())?;
             let mut fb =
                 Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
                     .map_err(|e| e.to_string())?;

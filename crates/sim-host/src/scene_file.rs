@@ -31,7 +31,8 @@
 //!
 //! | key | type | default | range |
 //! |-----|------|---------|-------|
-//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic` ([`ShadingName`]) |
+//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd` ([`ShadingName`]) |
+//! | `specular` | string | `"exact"` | `exact`, `schlick`, `schlick-mod`, `quadratic`, `cos-quad`, `cos-quad-energy` ([`SpecularName`]; the reference is always exact) |
 //! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
@@ -174,7 +175,7 @@
 
 use crate::desc::{
     CameraDesc, FormatName, LightDesc, LightKind, MaterialDesc, MeshSource, Named, ObjectDesc,
-    Projection, SceneDesc, ShadingName, SpanName,
+    Projection, SceneDesc, ShadingName, SpanName, SpecularName,
 };
 use std::fmt;
 use std::ops::Range;
@@ -314,6 +315,7 @@ const TOP_TITLES: &str =
 const IMAGE_KEYS: &[&str] = &["width", "height", "format", "background"];
 const RENDER_KEYS: &[&str] = &[
     "shading",
+    "specular",
     "span",
     "cull",
     "depth_test",
@@ -705,6 +707,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         cull_back: true,
         depth_test: true,
         perspective_correct: false,
+        specular: SpecularName::Exact,
     };
 
     if let Some(v) = get("image") {
@@ -834,6 +837,7 @@ fn image(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
 
 fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.shading = s.named("shading", desc.shading)?;
+    desc.specular = s.named("specular", desc.specular)?;
     desc.span = s.named("span", desc.span)?;
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;

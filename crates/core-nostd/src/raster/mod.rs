@@ -29,6 +29,7 @@
 
 pub mod edge;
 pub mod parallel;
+pub mod phong;
 pub mod quadratic;
 pub mod setup;
 pub mod sierpinski;
@@ -140,32 +141,63 @@ where
     if Z::TEST && !target.has_depth() {
         return draw_setup::<P, T, S, span::NoDepth, Sh>(target, s);
     }
-    let rows = target.rows();
+    let Some(rows) = row_range(s, target.rows()) else {
+        return 0;
+    };
+    let data = S::prepare(s);
+    scan::<P, T, Z, _>(target, s, rows, S::EDGE_VALUES, |c, d, span| {
+        S::fill::<P, Z, Sh>(c, d, span, s, &data)
+    })
+}
+
+/// The rows a set-up triangle covers inside `rows`: `(top, middle, bottom)`, where
+/// `[top, bottom)` is non-empty and `middle` is the first row of the lower half.
+#[inline]
+pub fn row_range(s: &Setup, rows: core::ops::Range<i32>) -> Option<(i32, i32, i32)> {
     let [t, m, b] = s.v;
     let y_top = first_row(t.y).max(rows.start);
-    let y_mid = first_row(m.y);
     let y_bot = first_row(b.y).min(rows.end);
-    if y_top >= y_bot {
-        return 0;
-    }
-    let data = S::prepare(s);
+    (y_top < y_bot).then_some((y_top, first_row(m.y), y_bot))
+}
+
+/// Walks the edges of a set-up triangle over `rows` (from [`row_range`]) and calls
+/// `fill(colour, depth, span)` for every non-empty span clipped to the target, with
+/// the row's colour and depth slices for `[x0, x1)` (depth empty unless `Z::TEST`).
+/// Returns the number of pixels covered. `edge_values` asks for [`Span::edges`].
+#[inline(always)]
+pub fn scan<P, T, Z, F>(
+    target: &mut T,
+    s: &Setup,
+    (y_top, y_mid, y_bot): (i32, i32, i32),
+    edge_values: bool,
+    mut fill: F,
+) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    F: FnMut(&mut [P::Raw], &mut [u16], &Span),
+{
+    let [t, m, b] = s.v;
     // The long edge spans every row: one stepper serves both halves (the first walk
     // leaves it on the row where the second begins).
     let mut long = EdgeStepper::new((t.x, t.y), (b.x, b.y), y_top);
     let mut n = 0;
-    n += walk::<P, T, S, Z, Sh>(
+    n += walk::<P, T, Z, F>(
         target,
         s,
-        &data,
+        &mut fill,
+        edge_values,
         (&mut long, (&t, &b)),
         (&t, &m),
         y_top,
         y_mid.min(y_bot),
     );
-    n += walk::<P, T, S, Z, Sh>(
+    n += walk::<P, T, Z, F>(
         target,
         s,
-        &data,
+        &mut fill,
+        edge_values,
         (&mut long, (&t, &b)),
         (&m, &b),
         y_mid.max(y_top),
@@ -177,10 +209,12 @@ where
 /// Walks rows `[ys, ye)` between the long edge (its stepper positioned on row `ys`)
 /// and one short edge.
 #[inline(always)]
-fn walk<P, T, S, Z, Sh>(
+#[allow(clippy::too_many_arguments)]
+fn walk<P, T, Z, F>(
     target: &mut T,
     s: &Setup,
-    data: &S::Tri,
+    fill: &mut F,
+    edge_values: bool,
     (el, long): (&mut EdgeStepper, (&ScreenVertex, &ScreenVertex)),
     short: (&ScreenVertex, &ScreenVertex),
     ys: i32,
@@ -189,9 +223,8 @@ fn walk<P, T, S, Z, Sh>(
 where
     P: PixelFormat,
     T: Target<P>,
-    S: SpanMethod,
     Z: DepthMode,
-    Sh: Shading,
+    F: FnMut(&mut [P::Raw], &mut [u16], &Span),
 {
     if ys >= ye {
         return 0;
@@ -203,7 +236,7 @@ where
     } else {
         ((el, long), (&mut es, short))
     };
-    let (mut la, mut ra) = if S::EDGE_VALUES {
+    let (mut la, mut ra) = if edge_values {
         (
             Some(EdgeAttrs::new(lv.0, lv.1, ys)),
             Some(EdgeAttrs::new(rv.0, rv.1, ys)),
@@ -244,7 +277,7 @@ where
             let (crow, drow) = target.row(y);
             let (a, b) = (x0 as usize, x1 as usize);
             let depth: &mut [u16] = if Z::TEST { &mut drow[a..b] } else { &mut [] };
-            S::fill::<P, Z, Sh>(&mut crow[a..b], depth, &span, s, data);
+            fill(&mut crow[a..b], depth, &span);
             covered += (x1 - x0) as u32;
         }
         let inc = if left.step() { &inc_b } else { &inc_a };

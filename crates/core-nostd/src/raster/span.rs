@@ -135,7 +135,7 @@ fn pack<P: PixelFormat>(r: i32, g: i32, b: i32) -> P::Raw {
 
 /// The u16 depth of a Q16.16 depth value (bias included).
 #[inline(always)]
-fn depth_of(z: i32) -> u16 {
+pub(crate) fn depth_of(z: i32) -> u16 {
     ((z as u32) >> 16) as u16
 }
 

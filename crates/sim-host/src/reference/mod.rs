@@ -217,6 +217,8 @@ impl Target<'_> {
                     // The quadratic surface's reference is the Phong render
                     // (`phong`); without it, its vertex colours are interpolated.
                     ShadingName::Gouraud | ShadingName::Quadratic => mix(|v| v.colour),
+                    // Phong shadings are lit per pixel above (`opts.phong` is forced).
+                    ShadingName::Phong | ShadingName::PhongEvenOdd => mix(|v| v.colour),
                 }
             };
             debug_assert!(
@@ -253,6 +255,14 @@ pub fn quantise(format: FormatName, c: [f64; 3]) -> [u8; 3] {
 /// in order, triangles in index order. The returned image has
 /// `background = scene.background` and `covered` set on every written pixel.
 pub fn render_reference(scene: &SceneDesc, meshes: &[MeshData], opts: &RefOptions) -> Image {
+    // A Phong scene is lit per pixel whatever the options say.
+    let opts = &RefOptions {
+        phong: opts.phong
+            || matches!(
+                scene.shading,
+                ShadingName::Phong | ShadingName::PhongEvenOdd
+            ),
+    };
     let (width, height) = (scene.width, scene.height);
     let view = view_matrix(&scene.camera);
     let proj = projection_matrix(&scene.camera, width as f64 / height as f64);
