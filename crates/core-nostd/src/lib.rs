@@ -32,12 +32,17 @@
 
 pub mod clip;
 pub mod divide;
+#[cfg(feature = "embedded-graphics")]
+pub mod eg;
 pub mod fixed;
 pub mod geometry;
 pub mod light;
+pub mod linebuf;
 pub mod math;
+pub mod prelude;
 pub mod raster;
 pub mod render;
+pub mod renderer;
 pub mod scene;
 pub mod shade;
 pub mod specular;
