@@ -121,7 +121,11 @@ impl<C: PixelColor> DrawTarget for Recorder<C> {
             self.put(p, c);
             n += 1;
         }
-        assert_eq!(n, area.size.width * area.size.height, "colours for {area:?}");
+        assert_eq!(
+            n,
+            area.size.width * area.size.height,
+            "colours for {area:?}"
+        );
         Ok(())
     }
 }
@@ -210,7 +214,8 @@ fn through_lines<P: PixelFormat, S: SpanMethod>(ls: &LoadedScene, band_rows: u32
         next_row: 0,
     };
     let bg = background::<P>(ls);
-    let stats = render_lines::<S, P, _>(&frame, band_rows, Some(&mut depth), bg, &mut lines).unwrap();
+    let stats =
+        render_lines::<S, P, _>(&frame, band_rows, Some(&mut depth), bg, &mut lines).unwrap();
     assert!(stats.pixels > 0);
     assert_eq!(lines.next_row, h, "every row asked for");
     to_bytes::<P>(&lines.frame)
@@ -223,9 +228,15 @@ fn check_format<P: Back>(ls: &LoadedScene, what: &str) {
         let (bytes, rec) = with_span_method!(d.span, S => through_adapter::<P, S>(ls, rows));
         assert_eq!(bytes.len(), native.len());
         let differ = bytes.iter().zip(&native).filter(|(a, b)| a != b).count();
-        assert_eq!(differ, 0, "{what}, adapter with {rows}-row scratch: {differ} bytes differ");
+        assert_eq!(
+            differ, 0,
+            "{what}, adapter with {rows}-row scratch: {differ} bytes differ"
+        );
         assert_eq!(rec.iter_calls, 0, "{what}: per-pixel draw_iter used");
-        assert!(rec.fills.iter().all(|r| r.size.height == 1 && r.size.width >= 1));
+        assert!(rec
+            .fills
+            .iter()
+            .all(|r| r.size.height == 1 && r.size.width >= 1));
         assert!(
             rec.writes.iter().all(|n| *n <= 1),
             "{what}: a pixel was written twice"
@@ -241,7 +252,10 @@ fn check_format<P: Back>(ls: &LoadedScene, what: &str) {
         let bytes = with_span_method!(d.span, S => through_lines::<P, S>(ls, band));
         let differ = bytes.iter().zip(&native).filter(|(a, b)| a != b).count();
         assert_eq!(bytes.len(), native.len());
-        assert_eq!(differ, 0, "{what}, line buffer with {band}-row bands: {differ} bytes differ");
+        assert_eq!(
+            differ, 0,
+            "{what}, line buffer with {band}-row bands: {differ} bytes differ"
+        );
     }
 }
 

@@ -12,6 +12,9 @@
 //! channel: an Rgb565 display gets the same 5-6-5 values a
 //! [`crate::target::Framebuffer`] of [`Rgb565Le`] or [`Rgb565Be`] would hold.
 //!
+//! `embedded_graphics::prelude` and [`crate::prelude`] both export an `Angle`; with
+//! both glob-imported, name fixshade's explicitly (`use fixshade::fixed::Angle;`).
+//!
 //! ```
 //! use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
 //! use embedded_graphics_core::prelude::*;
