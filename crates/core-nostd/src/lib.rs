@@ -19,25 +19,34 @@
 //! same bytes on the host and on every MCU. Overflow bounds are written next to the
 //! arithmetic that relies on them.
 //!
-//! Start with [`render::Frame`]; its module docs hold a complete example, and the
-//! README one that streams strips to an SPI display.
+//! Start with [`prelude`] and [`renderer::Renderer`] (the example below); the stage
+//! modules hold the building blocks, each with its contract in its docs.
 //!
 //! Numeric conventions: screen coordinates Q12.4 (1/16 pixel) within a guard band of
 //! ±4096 pixels; pixel (x, y) is sampled at its centre; colours interpolate in the
 //! target format's channel units with 16 fraction bits; depth is u16 in the buffer and
 //! Q16.16 while interpolated; normals are Q2.14; angles are binary fractions of a turn.
+//!
+//! # Using the library
+//!
+#![doc = include_str!("../docs/library.md")]
 #![no_std]
 #![deny(missing_docs, unsafe_code, trivial_numeric_casts)]
 #![deny(clippy::float_arithmetic)]
 
 pub mod clip;
 pub mod divide;
+#[cfg(feature = "embedded-graphics")]
+pub mod eg;
 pub mod fixed;
 pub mod geometry;
 pub mod light;
+pub mod linebuf;
 pub mod math;
+pub mod prelude;
 pub mod raster;
 pub mod render;
+pub mod renderer;
 pub mod scene;
 pub mod shade;
 pub mod specular;

@@ -1,0 +1,164 @@
+//! Streaming to displays without a framebuffer: the renderer asks a
+//! [`LineBufferProvider`] for a buffer, band by band, fills it, and hands it back.
+//!
+//! This is the shape of Slint's software renderer (`process_line(line, range,
+//! render_fn)`): the provider owns the memory (often a DMA buffer), calls the
+//! render function with it, and then sends the filled rows to the display over SPI.
+//! A band is `band_rows` frame rows (1 gives Slint's one line at a time); the
+//! renderer keeps only a depth buffer of one band. Each band is a
+//! [`Strip`] drawn by [`Frame::draw`], so the bytes are the same as rendering the
+//! whole frame into a [`crate::target::Framebuffer`]; more rows per band means fewer
+//! passes over the triangle list.
+//!
+//! ```
+//! use core::ops::Range;
+//! use fixshade::prelude::*;
+//!
+//! /// A display driver stand-in: counts the bytes it would send.
+//! struct Spi {
+//!     buf: [u16; 64 * 8],
+//!     sent: usize,
+//! }
+//! impl LineBufferProvider for Spi {
+//!     type Format = Rgb565Be;
+//!     fn size(&self) -> (u32, u32) {
+//!         (64, 48)
+//!     }
+//!     fn process_lines(&mut self, lines: Range<u32>, render: impl FnOnce(&mut [u16])) {
+//!         let n = 64 * lines.len();
+//!         render(&mut self.buf[..n]);
+//!         // set the display window to `lines`, then send `self.buf[..n]`
+//!         self.sent += 2 * n;
+//!     }
+//! }
+//!
+//! static POS: [[Q16_16; 3]; 3] = [
+//!     [Q16_16::from_int(-1), Q16_16::from_int(-1), Q16_16::ZERO],
+//!     [Q16_16::from_int(1), Q16_16::from_int(-1), Q16_16::ZERO],
+//!     [Q16_16::ZERO, Q16_16::from_int(1), Q16_16::ZERO],
+//! ];
+//! static NRM: [[Q2_14; 3]; 3] = [[Q2_14::from_bits(0), Q2_14::from_bits(0), Q2_14::ONE]; 3];
+//! let eye = [Q16_16::ZERO, Q16_16::ZERO, Q16_16::from_int(3)];
+//! let scene = Scene::new(Camera::perspective(eye, [Q16_16::ZERO; 3], Angle::from_degrees(60)))
+//!     .with_light(Light::directional(eye, rgb(255, 255, 255), rgb(0, 0, 0)))
+//!     .unwrap()
+//!     .with_object(Object::new(Mesh::new(&POS, &NRM, &[[0, 1, 2]]).unwrap()))
+//!     .unwrap();
+//!
+//! let mut cache = [XfVertex::default(); 3];
+//! let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+//! let mut depth = [0u16; 64 * 8];
+//! let mut spi = Spi { buf: [0; 64 * 8], sent: 0 };
+//! let black = Rgb565Be::pack(0, 0, 0);
+//! let stats = render_lines::<Gradient, _, _>(&frame, 8, Some(&mut depth), black, &mut spi).unwrap();
+//! assert_eq!(spi.sent, 64 * 48 * 2);
+//! assert!(stats.pixels > 300);
+//! ```
+
+use core::ops::Range;
+
+use crate::raster::span::SpanMethod;
+use crate::render::{Frame, Stats};
+use crate::renderer::DrawError;
+use crate::target::{PixelFormat, Strip, TargetError};
+
+/// Receives a frame band by band; implemented by display drivers.
+///
+/// The renderer calls [`LineBufferProvider::process_lines`] for consecutive bands
+/// from the top of the frame; every row of the frame is asked for exactly once.
+///
+/// ```
+/// use core::ops::Range;
+/// use fixshade::linebuf::LineBufferProvider;
+/// use fixshade::target::Gray8;
+///
+/// /// Keeps the last band, one line at most, of a 16 × 16 display.
+/// struct OneLine([u8; 16]);
+/// impl LineBufferProvider for OneLine {
+///     type Format = Gray8;
+///     fn size(&self) -> (u32, u32) {
+///         (16, 16)
+///     }
+///     fn process_lines(&mut self, lines: Range<u32>, render: impl FnOnce(&mut [u8])) {
+///         assert_eq!(lines.len(), 1);
+///         render(&mut self.0);
+///     }
+/// }
+/// ```
+pub trait LineBufferProvider {
+    /// The display's pixel format.
+    type Format: PixelFormat;
+
+    /// The display's width and height in pixels: the size the frame was prepared
+    /// at (a different size fails with [`crate::render::RenderError::TargetSizeMismatch`]).
+    fn size(&self) -> (u32, u32);
+
+    /// Called once per band, top to bottom, with the band's frame rows `lines`. The
+    /// provider calls `render` with a buffer of at least `width · lines.len()`
+    /// pixels (row-major, width as prepared), which `render` fills completely (the
+    /// background, then the triangles), and then sends the rows on. A provider that
+    /// does not call `render` skips the band.
+    fn process_lines(
+        &mut self,
+        lines: Range<u32>,
+        render: impl FnOnce(&mut [<Self::Format as PixelFormat>::Raw]),
+    );
+}
+
+/// Renders `frame` band by band into `provider`'s buffers with the span method `S`.
+///
+/// Bands are `band_rows` rows tall (the last one may be shorter; 0 counts as 1).
+/// `depth` holds at least `width · band_rows` entries and is required when the
+/// scene uses the depth test. Each band is cleared to `background` before drawing.
+/// The statistics are summed over the bands (a triangle spanning several bands
+/// counts in each). Errors: [`DrawError::Render`] from the frame, or
+/// [`DrawError::Buffer`] if the provider's buffer or `depth` is too small; the bands
+/// before the error have been sent.
+///
+/// See the [module docs](self) for an example.
+pub fn render_lines<S, P, L>(
+    frame: &Frame<'_, '_, '_, P>,
+    band_rows: u32,
+    mut depth: Option<&mut [u16]>,
+    background: P::Raw,
+    provider: &mut L,
+) -> Result<Stats, DrawError>
+where
+    S: SpanMethod,
+    P: PixelFormat,
+    L: LineBufferProvider<Format = P>,
+{
+    let (w, h) = provider.size();
+    if w == 0 || h == 0 {
+        return Err(DrawError::Buffer(TargetError::BadSize));
+    }
+    let band_rows = band_rows.max(1);
+    let mut total = Stats::default();
+    let mut y0 = 0;
+    while y0 < h {
+        let rows = band_rows.min(h - y0);
+        let mut result = Ok(Stats::default());
+        let depth = depth.as_deref_mut();
+        provider.process_lines(y0..y0 + rows, |buf| {
+            result = band::<S, P>(frame, (w, h), buf, depth, background, y0, rows);
+        });
+        total += result?;
+        y0 += rows;
+    }
+    Ok(total)
+}
+
+/// Draws frame rows `[y0, y0 + rows)` into `buf`.
+fn band<S: SpanMethod, P: PixelFormat>(
+    frame: &Frame<'_, '_, '_, P>,
+    (w, h): (u32, u32),
+    buf: &mut [P::Raw],
+    depth: Option<&mut [u16]>,
+    background: P::Raw,
+    y0: u32,
+    rows: u32,
+) -> Result<Stats, DrawError> {
+    let mut strip = Strip::<P>::new(buf, depth, w, h, y0, rows)?;
+    strip.clear(background);
+    Ok(frame.draw::<S, _>(&mut strip)?)
+}
