@@ -215,7 +215,7 @@ fn through_lines<P: PixelFormat, S: SpanMethod>(ls: &LoadedScene, band_rows: u32
     };
     let bg = background::<P>(ls);
     let stats =
-        render_lines::<S, P, _>(&frame, band_rows, Some(&mut depth), bg, &mut lines).unwrap();
+        render_lines::<S, P, _, _>(&frame, band_rows, Some(&mut depth), bg, &mut lines).unwrap();
     assert!(stats.pixels > 0);
     assert_eq!(lines.next_row, h, "every row asked for");
     to_bytes::<P>(&lines.frame)

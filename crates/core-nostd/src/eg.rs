@@ -206,8 +206,8 @@ struct Scratch<'a, R> {
 /// error.
 ///
 /// See the [module docs](self) for an example.
-pub struct Model<'a, P: EgFormat, S = Gradient> {
-    frame: Frame<'a, 'a, 'a, Covered<P>>,
+pub struct Model<'a, P: EgFormat, S = Gradient, Sp: Specular = BlinnExact> {
+    frame: Frame<'a, 'a, 'a, Covered<P>, Sp>,
     size: Size,
     origin: Point,
     scratch: Cell<Option<Scratch<'a, P::Raw>>>,
@@ -236,7 +236,7 @@ impl<'a, P: EgFormat> Model<'a, P> {
         cache: &'a mut [XfVertex],
         color: &'a mut [CoveredPixel<P::Raw>],
         depth: Option<&'a mut [u16]>,
-    ) -> Result<Self, DrawError> {
+    ) -> Result<Model<'a, P, Gradient, Sp>, DrawError> {
         let frame = Frame::<Covered<P>>::prepare_with::<Sp>(scene, size.width, size.height, cache)?;
         // The frame checked 1..=4096.
         let w = size.width as usize;
@@ -256,7 +256,7 @@ impl<'a, P: EgFormat> Model<'a, P> {
     }
 }
 
-impl<'a, P: EgFormat, S: SpanMethod> Model<'a, P, S> {
+impl<'a, P: EgFormat, S: SpanMethod, Sp: Specular> Model<'a, P, S, Sp> {
     /// The same model with its top-left corner at `origin` on the display.
     pub fn at(mut self, origin: Point) -> Self {
         self.origin = origin;
@@ -264,7 +264,7 @@ impl<'a, P: EgFormat, S: SpanMethod> Model<'a, P, S> {
     }
 
     /// The same model drawn with the span method `S2`.
-    pub fn span<S2: SpanMethod>(self) -> Model<'a, P, S2> {
+    pub fn span<S2: SpanMethod>(self) -> Model<'a, P, S2, Sp> {
         Model {
             frame: self.frame,
             size: self.size,
@@ -347,7 +347,7 @@ fn flush_row<P: EgFormat, D: DrawTarget<Color = P::Color>>(
     Ok(())
 }
 
-impl<P: EgFormat, S: SpanMethod> Drawable for Model<'_, P, S> {
+impl<P: EgFormat, S: SpanMethod, Sp: Specular> Drawable for Model<'_, P, S, Sp> {
     type Color = P::Color;
     /// The frame's statistics, summed over the bands, or why it could not be drawn.
     type Output = Result<Stats, DrawError>;
@@ -366,7 +366,7 @@ impl<P: EgFormat, S: SpanMethod> Drawable for Model<'_, P, S> {
     }
 }
 
-impl<P: EgFormat, S> Dimensions for Model<'_, P, S> {
+impl<P: EgFormat, S, Sp: Specular> Dimensions for Model<'_, P, S, Sp> {
     /// The frame's rectangle on the display.
     fn bounding_box(&self) -> Rectangle {
         Rectangle::new(self.origin, self.size)

@@ -50,7 +50,7 @@
 //! let mut depth = [0u16; 64 * 8];
 //! let mut spi = Spi { buf: [0; 64 * 8], sent: 0 };
 //! let black = Rgb565Be::pack(0, 0, 0);
-//! let stats = render_lines::<Gradient, _, _>(&frame, 8, Some(&mut depth), black, &mut spi).unwrap();
+//! let stats = render_lines::<Gradient, _, _, _>(&frame, 8, Some(&mut depth), black, &mut spi).unwrap();
 //! assert_eq!(spi.sent, 64 * 48 * 2);
 //! assert!(stats.pixels > 300);
 //! ```
@@ -58,6 +58,7 @@
 use core::ops::Range;
 
 use crate::raster::span::SpanMethod;
+use crate::light::Specular;
 use crate::render::{Frame, Stats};
 use crate::renderer::DrawError;
 use crate::target::{PixelFormat, Strip, TargetError};
@@ -116,8 +117,8 @@ pub trait LineBufferProvider {
 /// before the error have been sent.
 ///
 /// See the [module docs](self) for an example.
-pub fn render_lines<S, P, L>(
-    frame: &Frame<'_, '_, '_, P>,
+pub fn render_lines<S, P, L, Sp>(
+    frame: &Frame<'_, '_, '_, P, Sp>,
     band_rows: u32,
     mut depth: Option<&mut [u16]>,
     background: P::Raw,
@@ -127,6 +128,7 @@ where
     S: SpanMethod,
     P: PixelFormat,
     L: LineBufferProvider<Format = P>,
+    Sp: Specular,
 {
     let (w, h) = provider.size();
     if w == 0 || h == 0 {
@@ -140,7 +142,7 @@ where
         let mut result = Ok(Stats::default());
         let depth = depth.as_deref_mut();
         provider.process_lines(y0..y0 + rows, |buf| {
-            result = band::<S, P>(frame, (w, h), buf, depth, background, y0, rows);
+            result = band::<S, P, Sp>(frame, (w, h), buf, depth, background, y0, rows);
         });
         total += result?;
         y0 += rows;
@@ -149,8 +151,8 @@ where
 }
 
 /// Draws frame rows `[y0, y0 + rows)` into `buf`.
-fn band<S: SpanMethod, P: PixelFormat>(
-    frame: &Frame<'_, '_, '_, P>,
+fn band<S: SpanMethod, P: PixelFormat, Sp: Specular>(
+    frame: &Frame<'_, '_, '_, P, Sp>,
     (w, h): (u32, u32),
     buf: &mut [P::Raw],
     depth: Option<&mut [u16]>,

@@ -388,11 +388,14 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 st.triangles += 1;
                 let mut t = tri.map(|i| verts[i as usize]);
                 if S::SNAPS {
-                    // A method that moves vertices is culled on the moved ones. The
-                    // vertex stage lit only vertices of triangles that were drawable
-                    // before the move: a sliver that turns front by snapping has unlit
-                    // vertices and is dropped (a documented coverage exception).
-                    if t.iter().any(|v| v.flags & NEEDED == 0) {
+                    // A method that moves vertices is culled on the moved ones, and
+                    // only triangles drawable before the move are drawn (the vertex
+                    // stage lit only their vertices): a sliver that turns front by
+                    // snapping is dropped (a documented coverage exception). The test
+                    // is on the triangle itself over the whole frame, so the result
+                    // does not depend on its neighbours or on the target's rows.
+                    let whole = 0..self.vp.height as i32;
+                    if classify(&t, cull, &self.vp, whole) == Class::Skip {
                         st.culled += 1;
                         continue;
                     }

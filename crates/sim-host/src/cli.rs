@@ -14,8 +14,10 @@ fixshade — integer-only triangle rasterizer for MCU displays, host simulator
 USAGE:
     fixshade                      render the demo figures (sphere, teapot, robot)
                                   into out/ and print a table against the f64 reference
-    fixshade render SCENE -o OUT.png [--span METHOD] [--shading MODE] [--format FMT]
+    fixshade render SCENE [-o OUT.png] [--span METHOD] [--shading MODE] [--format FMT]
                                   [--specular MODEL] [--strip ROWS]
+                                  render with the fixed-point core (OUT defaults to
+                                  out/SCENE.png); prints the draw statistics
     fixshade reference SCENE -o OUT.png [--phong]
     fixshade compare REF.png TEST.png [--json]
     fixshade report [--quick] [--out DIR]
@@ -26,8 +28,11 @@ USAGE:
                                   specular models, formats
     fixshade help                 this text
 
-SCENE is a scene file (TOML) or a built-in scene: sphere, teapot, robot, bench-sphere.
-Options override the scene file. Exit status: 0 success, 1 failure, 2 bad usage.";
+SCENE is a scene file (TOML, see docs/scene-files.md) or a built-in scene: sphere,
+teapot, robot, bench-sphere. Options override the scene file; `fixshade list` names
+every METHOD, MODE, MODEL and FMT with a line on each. `fixshade COMMAND --help`
+prints this text. Exit status: 0 success, 1 failure (unreadable file, bad scene,
+render error), 2 bad usage.";
 
 /// A failure with its exit code: 2 for bad usage, 1 otherwise.
 #[derive(Debug)]
@@ -134,6 +139,18 @@ fn output(o: &Opts) -> Result<&PathBuf, CliError> {
     o.output.as_ref().ok_or_else(|| usage("missing -o OUT.png"))
 }
 
+/// `-o OUT`, or `out/<scene name>.png` (the file stem of a scene file).
+fn output_or_default(o: &Opts) -> PathBuf {
+    o.output.clone().unwrap_or_else(|| {
+        let scene = o.positional.first().map(String::as_str).unwrap_or("scene");
+        let stem = std::path::Path::new(scene)
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("scene");
+        PathBuf::from("out").join(format!("{stem}.png"))
+    })
+}
+
 fn write(img: &Image, path: &std::path::Path) -> Result<(), CliError> {
     if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
@@ -148,6 +165,9 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
         return crate::demo::run_demo().map_err(fail);
     };
     let rest = &args[1..];
+    if rest.iter().any(|a| a == "--help" || a == "-h") {
+        return Ok(USAGE.to_string());
+    }
     match cmd.as_str() {
         "help" | "--help" | "-h" => Ok(USAGE.to_string()),
         "list" => Ok(list()),
@@ -164,8 +184,8 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                     "--strip",
                 ],
             )?;
-            let out = output(&o)?;
             let ls = load_with(&o)?;
+            let out = &output_or_default(&o);
             let r = pipeline::render(&ls, o.strip).map_err(fail)?;
             write(&r.image, out)?;
             Ok(format!(
@@ -244,14 +264,68 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
     }
 }
 
+/// One line on what each selectable name does, for `fixshade list`.
+fn describe(name: &str) -> &'static str {
+    match name {
+        "classic" => "per-span division of the end values (baseline)",
+        "gradient" => "constant per-triangle increment (seed 000 §2.1)",
+        "even-odd" => "two accumulators over even and odd pixels; same pixels as gradient",
+        "kway2" | "kway3" | "kway4" => "K accumulators stepping K·ΔI; same pixels as gradient",
+        "counter" => "two interpolators from both span ends; same pixels as gradient",
+        "segment2" | "segment4" | "segment8" | "segment16" | "segment32" | "segment64" => {
+            "P units filling segments of w pixels; same pixels as gradient"
+        }
+        "sierpinski" => "midpoint subdivision with vertices snapped to even pixels (approximate)",
+        "sierpinski-exact" => "midpoint subdivision only where exact; same pixels as gradient",
+        "flat" => "one colour per triangle (its last vertex's)",
+        "gouraud" => "vertex colours interpolated",
+        "quadratic" => "quadratic surface through vertex and edge-midpoint colours (seed 003)",
+        "phong" => "normals interpolated, every pixel lit",
+        "phong-even-odd" => "phong with two accumulators per normal component; same pixels",
+        "exact" => "c^n",
+        "schlick" => "c / (n - n·c + c)",
+        "schlick-mod" => "the seed's modified Schlick",
+        "cos-quad" => "(σ(c - 1) + 1)², σ = (n + 1)/3",
+        "cos-quad-energy" => "energy-conserving cosine-quadratic, (n + 6)/24.55 factor",
+        "rgb565le" => "RGB 5-6-5, little-endian bytes",
+        "rgb565be" => "RGB 5-6-5, big-endian bytes (ST7789/ILI9341 over SPI)",
+        "rgb888" => "RGB 8-8-8",
+        "gray8" => "8-bit grey",
+        _ => "",
+    }
+}
+
 fn list() -> String {
-    let names = |all: &[&str]| all.join(", ");
-    format!(
-        "built-in scenes: {}\nspan methods: {}\nshading modes: {}\nspecular models: {}\npixel formats: {}",
-        names(crate::scene_file::BUILTIN_SCENES),
-        names(&SpanName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
-        names(&ShadingName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
-        names(&SpecularName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
-        names(&FormatName::ALL.iter().map(|(_, n)| *n).collect::<Vec<_>>()),
-    )
+    let mut out = format!(
+        "built-in scenes: {}\nbuilt-in meshes (scene files): sphere, teapot, robot, obj (with path)\n",
+        crate::scene_file::BUILTIN_SCENES.join(", ")
+    );
+    let mut section = |title: &str, names: Vec<&'static str>| {
+        out.push_str(&format!("\n{title}:\n"));
+        for n in names {
+            // `quadratic` names both a shading mode and a specular model.
+            let d = match (title, n) {
+                ("specular models (--specular)", "quadratic") => "a·c² + (1 - a)·c, a(n) from a table",
+                _ => describe(n),
+            };
+            out.push_str(&format!("  {n:18} {d}\n"));
+        }
+    };
+    section(
+        "span methods (--span)",
+        SpanName::ALL.iter().map(|(_, n)| *n).collect(),
+    );
+    section(
+        "shading modes (--shading)",
+        ShadingName::ALL.iter().map(|(_, n)| *n).collect(),
+    );
+    section(
+        "specular models (--specular)",
+        SpecularName::ALL.iter().map(|(_, n)| *n).collect(),
+    );
+    section(
+        "pixel formats (--format)",
+        FormatName::ALL.iter().map(|(_, n)| *n).collect(),
+    );
+    out.trim_end().to_string()
 }

@@ -76,19 +76,24 @@ fn vattrs(v: &ScreenVertex) -> [i64; ATTRS] {
 
 impl EdgeAttrs {
     /// Values at the edge crossing of row `y` for the edge `t → b`, 16 extra
-    /// fraction bits. |Δa| ≤ 2³², so `Δa·16 << 16` < 2⁵³ and `Δa·(yc − t.y) << 16`
-    /// < 2⁶⁶ would not fit: the product is taken in i128.
-    fn new(t: &ScreenVertex, b: &ScreenVertex, y: i32) -> EdgeAttrs {
+    /// fraction bits: evaluated at row `anchor` (the first row of the triangle half
+    /// being walked) and stepped `y − anchor` times, so a strip that starts inside
+    /// the half gets exactly the values the whole frame steps to. |Δa| ≤ 2³², so
+    /// `Δa·16 << 16` < 2⁵³ and `Δa·(yc − t.y) << 16` < 2⁶⁶ would not fit: the
+    /// product is taken in i128; the stepping wraps like repeated adds would.
+    fn new(t: &ScreenVertex, b: &ScreenVertex, y: i32, anchor: i32) -> EdgeAttrs {
         let dy = (b.y - t.y) as i128;
-        let off = (16 * y + 8 - t.y) as i128;
+        let off = (16 * anchor + 8 - t.y) as i128;
+        let steps = (y - anchor) as i64;
         let (at, ab) = (vattrs(t), vattrs(b));
         let mut val = [0i64; ATTRS];
         let mut inc = [0i64; ATTRS];
         for k in 0..ATTRS {
             let da = (ab[k] - at[k]) as i128;
-            val[k] = (((at[k] as i128 + setup::ROUND_BIAS as i128) << 16) + ((da * off) << 16) / dy)
-                as i64;
             inc[k] = (((da * 16) << 16) / dy) as i64;
+            val[k] = ((((at[k] as i128 + setup::ROUND_BIAS as i128) << 16) + ((da * off) << 16) / dy)
+                as i64)
+                .wrapping_add(steps.wrapping_mul(inc[k]));
         }
         EdgeAttrs { val, inc }
     }
@@ -190,7 +195,7 @@ where
         edge_values,
         (&mut long, (&t, &b)),
         (&t, &m),
-        y_top,
+        (first_row(t.y), y_top),
         y_mid.min(y_bot),
     );
     n += walk::<P, T, Z, F>(
@@ -200,14 +205,16 @@ where
         edge_values,
         (&mut long, (&t, &b)),
         (&m, &b),
-        y_mid.max(y_top),
+        (y_mid, y_mid.max(y_top)),
         y_bot,
     );
     n
 }
 
 /// Walks rows `[ys, ye)` between the long edge (its stepper positioned on row `ys`)
-/// and one short edge.
+/// and one short edge; `anchor` is the half's own first row (`ys` unless the target
+/// starts below it), where the edge values of [`SpanMethod::EDGE_VALUES`] methods
+/// are anchored.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn walk<P, T, Z, F>(
@@ -217,7 +224,7 @@ fn walk<P, T, Z, F>(
     edge_values: bool,
     (el, long): (&mut EdgeStepper, (&ScreenVertex, &ScreenVertex)),
     short: (&ScreenVertex, &ScreenVertex),
-    ys: i32,
+    (anchor, ys): (i32, i32),
     ye: i32,
 ) -> u32
 where
@@ -238,8 +245,8 @@ where
     };
     let (mut la, mut ra) = if edge_values {
         (
-            Some(EdgeAttrs::new(lv.0, lv.1, ys)),
-            Some(EdgeAttrs::new(rv.0, rv.1, ys)),
+            Some(EdgeAttrs::new(lv.0, lv.1, ys, anchor)),
+            Some(EdgeAttrs::new(rv.0, rv.1, ys, anchor)),
         )
     } else {
         (None, None)
