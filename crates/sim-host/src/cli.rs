@@ -22,6 +22,9 @@ USAGE:
                                   accuracy against time for every span method and
                                   shading mode: a table, and DIR/accuracy-vs-time.{md,csv,png}
                                   (DIR: docs/, or out/report-quick/ with --quick)
+    fixshade bake INPUT -o OUT.rs [--chunk N]
+                                  an OBJ, scene file or built-in scene as static arrays
+                                  in the core's fixed-point formats (for flash)
     fixshade list                 built-in scenes, span methods, shading modes, formats
     fixshade help                 this text
 
@@ -145,6 +148,7 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
     match cmd.as_str() {
         "help" | "--help" | "-h" => Ok(USAGE.to_string()),
         "list" => Ok(list()),
+        "bake" => crate::bake::run(rest),
         "render" => {
             let o = parse_opts(
                 rest,
