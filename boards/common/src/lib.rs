@@ -12,18 +12,24 @@
 #![no_std]
 #![deny(missing_docs, unsafe_code)]
 
+use core::marker::PhantomData;
 use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
 use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
-use fixshade::raster::span::{Classic, Gradient, SpanMethod};
+use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod};
 use fixshade::render::{Frame, RenderError, Stats};
+use fixshade::shade::Shading;
 use fixshade::target::{PixelFormat, Target};
 
 /// SysTick reload: the full 24 bits.
 const RELOAD: u32 = 0x00FF_FFFF;
+
+/// Ticks after a wrap in which [`Counter::ticks`] waits (about 40 instructions on
+/// the nRF51, 20 on mps2).
+const GUARD: u32 = 640;
 
 static WRAPS: AtomicU32 = AtomicU32::new(0);
 
@@ -62,17 +68,26 @@ impl Counter {
 
     /// SysTick ticks since `start`.
     pub fn ticks(&mut self) -> u64 {
-        cortex_m::interrupt::free(|_| {
-            let mut v = SYST::get_current();
-            let mut w = WRAPS.load(Ordering::Relaxed);
-            // A wrap whose exception is pending (masked here) has happened: count it,
-            // and re-read the value, which is then certainly after the wrap.
-            if SCB::is_pendst_pending() {
-                v = SYST::get_current();
-                w += 1;
+        loop {
+            let (v, w) = cortex_m::interrupt::free(|_| {
+                let mut v = SYST::get_current();
+                let mut w = WRAPS.load(Ordering::Relaxed);
+                // A wrap whose exception is pending (masked here) has happened: count
+                // it, and re-read the value, which is then certainly after the wrap.
+                if SCB::is_pendst_pending() {
+                    v = SYST::get_current();
+                    w += 1;
+                }
+                (v, w)
+            });
+            // Right after a wrap QEMU may show the reloaded value a moment before it
+            // raises the exception (the timer callback runs at the next instruction
+            // boundary it checks). Within `GUARD` ticks of the reload value, wait with
+            // interrupts enabled until the wrap has surely been counted.
+            if v < RELOAD - GUARD {
+                return w as u64 * (RELOAD as u64 + 1) + (RELOAD - v) as u64;
             }
-            w as u64 * (RELOAD as u64 + 1) + (RELOAD - v) as u64
-        })
+        }
     }
 
     /// Instructions in `ticks` SysTick ticks: ticks · 10⁹ / (hz · 2^shift). Convert
@@ -134,29 +149,64 @@ pub fn calibrate(counter: &mut Counter, out: &mut impl core::fmt::Write, board: 
 /// Draws a prepared frame into a target with one span method.
 pub type DrawFn<P, T> = fn(&Frame<'_, '_, '_, P>, &mut T) -> Result<Stats, RenderError>;
 
-fn draw<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+/// How a case is drawn: the call into the core every case of a table shares.
+pub trait Mode {
+    /// Draws `f` into `t` with span method `S`.
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+    ) -> Result<Stats, RenderError>;
+}
+
+/// [`Frame::draw`]: the scene's depth and shading settings.
+pub struct SceneSettings;
+
+impl Mode for SceneSettings {
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+    ) -> Result<Stats, RenderError> {
+        f.draw::<S, T>(t)
+    }
+}
+
+/// [`Frame::draw_with`] for one depth mode and shading fixed by type: what
+/// [`Frame::draw`] calls for a scene with those settings, with the code of the other
+/// settings left out of the image (for small flash).
+pub struct Fixed<Z, Sh>(PhantomData<(Z, Sh)>);
+
+impl<Z: DepthMode, Sh: Shading> Mode for Fixed<Z, Sh> {
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+    ) -> Result<Stats, RenderError> {
+        f.draw_with::<S, Z, Sh, T>(t)
+    }
+}
+
+fn entry<S: SpanMethod, M: Mode, P: PixelFormat, T: Target<P>>(
     f: &Frame<'_, '_, '_, P>,
     t: &mut T,
 ) -> Result<Stats, RenderError> {
-    f.draw::<S, T>(t)
-}
-
-/// The axes every frame is drawn over, as one table: each entry names the case as
-/// the host does (`fixshade render --span NAME`) and draws it. A new axis (a divider,
-/// a specular model) becomes one more type parameter of `draw` and one more line per
-/// variant here.
-macro_rules! cases {
-    ($P:ty, $T:ty; $($name:literal => $S:ty),* $(,)?) => {
-        [$(($name, draw::<$S, $P, $T> as DrawFn<$P, $T>)),*]
-    };
+    M::run::<S, P, T>(f, t)
 }
 
 /// Number of cases in [`cases`].
 pub const CASES: usize = 15;
 
-/// Every span method, in the host's order (`fixshade list`).
-pub fn cases<P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<P, T>); CASES] {
-    cases!(P, T;
+/// The axes every frame is drawn over, as one table: each entry names the case as
+/// the host does (`fixshade render --span NAME`) and draws it. A new axis (a divider,
+/// a specular model) becomes one more type parameter of `entry` and one more line per
+/// variant here.
+macro_rules! cases {
+    ($M:ty, $P:ty, $T:ty; $($name:literal => $S:ty),* $(,)?) => {
+        [$(($name, entry::<$S, $M, $P, $T> as DrawFn<$P, $T>)),*]
+    };
+}
+
+/// Every span method, in the host's order (`fixshade list`), drawn by `M`.
+pub fn cases<M: Mode, P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<P, T>); CASES] {
+    cases!(M, P, T;
         "classic" => Classic,
         "gradient" => Gradient,
         "even-odd" => EvenOdd,

@@ -20,7 +20,7 @@ use fixshade::raster::setup::setup;
 use fixshade::render::{Frame, XfVertex, NEEDED, OUTSIDE};
 use fixshade::scene::Scene;
 use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
-use fixshade_boards_common::{cases, Counter, FrameLog};
+use fixshade_boards_common::{cases, Counter, FrameLog, SceneSettings};
 use semihosting::io::Write as _;
 
 /// The built-in scenes, baked by `fixshade bake` (see `boards/baked/README.md`).
@@ -149,7 +149,7 @@ fn run() -> Result<(), &'static str> {
         let bg = Rgb565Le::pack(fig.background[0], fig.background[1], fig.background[2]);
         let mut fb = Framebuffer::<Rgb565Le>::new(&mut color[..n], Some(&mut depth[..n]), w, h)
             .map_err(|_| "framebuffer")?;
-        for (case, draw) in cases::<Rgb565Le, Framebuffer<'_, Rgb565Le>>() {
+        for (case, draw) in cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>() {
             fb.clear(bg);
             let (frame, prepare) =
                 counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));

@@ -19,12 +19,14 @@ use std::path::{Path, PathBuf};
 
 use crate::cli::CliError;
 use crate::convert::{core_scene, FixedMesh};
-use crate::desc::{MeshSource, SceneDesc};
-use crate::pipeline::{self, background_channels};
+use crate::desc::{FormatName, MeshSource, SceneDesc};
+use crate::pipeline::{self, background_channels, LoadedScene};
 use crate::{mesh, scene_file};
 use fixshade::fixed::{Q16_16, Q2_14};
 use fixshade::light::{Light, LightKind, Material};
+use fixshade::render::{Frame, XfVertex};
 use fixshade::scene::{Projection, Scene, ShadingMode};
+use fixshade::target::{PixelFormat, Rgb565Le, Strip};
 
 /// Bytes of flash per vertex (Q16.16 position and Q2.14 normal) and per triangle.
 const VERTEX_BYTES: usize = 12 + 6;
@@ -347,7 +349,9 @@ pub fn bake(arg: &str, chunk: Option<usize>, command: &str) -> Result<Baked, Str
         .unwrap_or(0);
     let _ = writeln!(
         f,
-        "/// Vertices in the largest chunk: the vertex cache a draw of one chunk needs.\npub const MAX_CHUNK_VERTICES: usize = {largest};\n"
+        "/// Vertices in the largest chunk: the vertex cache a draw of one chunk needs.\npub const MAX_CHUNK_VERTICES: usize = {largest};\n\
+         /// The chunks' vertex limit (`--chunk`; 0: one chunk per mesh).\npub const CHUNK_LIMIT: usize = {};\n",
+        chunk.unwrap_or(0)
     );
     if let Some(d) = &desc {
         let s = core_scene(d, &fixed)?;
@@ -372,6 +376,66 @@ pub fn bake(arg: &str, chunk: Option<usize>, command: &str) -> Result<Baked, Str
         flash_bytes: flash,
         summary,
     })
+}
+
+/// Renders a one-object scene the way a board with little RAM does: strip by strip
+/// (`rows` rows each), and per strip chunk by chunk (`fixshade bake --chunk
+/// max_vertices`), each chunk with its own vertex stage. Returns the frame's bytes
+/// (Rgb565 little-endian scenes only). The QEMU Cortex-M0 firmware renders this way;
+/// `cargo xtask qemu` compares its frames with this.
+pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Result<Vec<u8>, String> {
+    let d = &ls.desc;
+    if d.format != FormatName::Rgb565Le || ls.fixed.len() != 1 {
+        return Err("render_chunked takes one-object rgb565le scenes".into());
+    }
+    let (w, h) = (d.width, d.height);
+    let rows = rows.clamp(1, h);
+    let meshes: Vec<FixedMesh> = chunks(&ls.fixed[0], Some(max_vertices))?
+        .into_iter()
+        .map(|c| FixedMesh {
+            positions: c.positions,
+            normals: c.normals,
+            triangles: c.triangles,
+        })
+        .collect();
+    let scenes = meshes
+        .iter()
+        .map(|m| core_scene(d, std::slice::from_ref(m)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let bgc = background_channels(d.format, d.background);
+    let bg = Rgb565Le::pack(bgc[0], bgc[1], bgc[2]);
+    let mut out = Vec::with_capacity(w as usize * h as usize * 2);
+    let mut cache = vec![XfVertex::default(); max_vertices];
+    let mut color = vec![bg; w as usize * rows as usize];
+    let mut depth = vec![0xFFFFu16; w as usize * rows as usize];
+    let mut y0 = 0;
+    while y0 < h {
+        let hh = rows.min(h - y0);
+        let mut strip = Strip::<Rgb565Le>::new(
+            &mut color,
+            d.depth_test.then_some(&mut depth[..]),
+            w,
+            h,
+            y0,
+            hh,
+        )
+        .map_err(|e| e.to_string())?;
+        strip.clear(bg);
+        for scene in &scenes {
+            let frame =
+                Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache).map_err(|e| e.to_string())?;
+            crate::with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip))
+                .map_err(|e| e.to_string())?;
+        }
+        out.extend(
+            strip
+                .color()
+                .iter()
+                .flat_map(|p| Rgb565Le::bytes(*p).into_iter().take(2)),
+        );
+        y0 += hh;
+    }
+    Ok(out)
 }
 
 fn usage(msg: impl Into<String>) -> CliError {
