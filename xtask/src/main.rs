@@ -7,7 +7,7 @@ mod qemu;
 
 /// The MCU targets the core must build for, with the feature sets to try.
 const NO_STD_TARGETS: [&str; 2] = ["thumbv6m-none-eabi", "thumbv7em-none-eabihf"];
-const FEATURE_SETS: [&str; 2] = ["", "f32-input"];
+const FEATURE_SETS: [&str; 3] = ["", "f32-input", "defmt"];
 
 fn cargo(args: &[&str]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());

@@ -31,6 +31,8 @@
 #![deny(clippy::float_arithmetic)]
 
 pub mod clip;
+#[cfg(feature = "defmt")]
+mod defmt_impls;
 pub mod divide;
 pub mod fixed;
 pub mod geometry;
