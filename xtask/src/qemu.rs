@@ -3,6 +3,9 @@
 //! with the host render of the same scene and span method, and writes the
 //! instruction table (docs/mcu-instructions.md and .csv).
 //!
+//! It first builds the real-board crates (`boards/rp-pico-st7789`), which need a
+//! board to run, and prints their flash and RAM sizes.
+//!
 //! QEMU comes from the system (`apt-get install qemu-system-arm`, done here when
 //! running as root). Without it the task fails under `CI=true` and is skipped, loudly,
 //! elsewhere.
@@ -74,6 +77,28 @@ const IMAGES: &[Image] = &[
         cpu: "cortex-m0",
     },
 ];
+
+/// Firmware for real boards: built (not run) by `cargo xtask qemu`, sizes printed.
+/// (crate under boards/, target, binary).
+const REAL_BOARDS: &[(&str, &str, &str)] = &[(
+    "rp-pico-st7789",
+    "thumbv6m-none-eabi",
+    "fixshade-rp-pico-st7789",
+)];
+
+/// Builds the real-board crates; returns (label, flash, static RAM) per image.
+fn build_real_boards(root: &Path) -> Result<Vec<(String, u64, u64)>, String> {
+    let mut sizes = Vec::new();
+    for (krate, target, bin) in REAL_BOARDS {
+        let dir = root.join("boards").join(krate);
+        cargo_build(&dir, "")?;
+        let elf = dir.join("target").join(target).join("release").join(bin);
+        let (flash, ram) = elf_sizes(&elf)?;
+        eprintln!("xtask: {krate}: flash {flash} B, static RAM {ram} B (built, not run)");
+        sizes.push((format!("{krate} (built, not run)"), flash, ram));
+    }
+    Ok(sizes)
+}
 
 /// The longest a firmware run may take in wall time before it counts as hung.
 const RUN_LIMIT: Duration = Duration::from_secs(900);
@@ -315,15 +340,6 @@ fn fmt_per(a: u64, b: u64) -> String {
 /// The task.
 pub fn qemu() -> Result<(), String> {
     let ci = std::env::var("CI").is_ok_and(|v| v == "true");
-    if !ensure_qemu() {
-        let msg = "qemu-system-arm is not installed: the MCU frames were NOT checked \
-                   (install it with `apt-get install qemu-system-arm`, as root)";
-        if ci {
-            return Err(msg.into());
-        }
-        eprintln!("\n!!!!!!!!\nxtask: SKIPPED `cargo xtask qemu`: {msg}\n!!!!!!!!\n");
-        return Ok(());
-    }
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .ok_or("xtask has no parent directory")?
@@ -340,10 +356,20 @@ pub fn qemu() -> Result<(), String> {
     if !status.success() {
         return Err("`rustup target add` failed".into());
     }
+    let real = build_real_boards(&root)?;
+    if !ensure_qemu() {
+        let msg = "qemu-system-arm is not installed: the MCU frames were NOT checked \
+                   (install it with `apt-get install qemu-system-arm`, as root)";
+        if ci {
+            return Err(msg.into());
+        }
+        eprintln!("\n!!!!!!!!\nxtask: SKIPPED `cargo xtask qemu`: {msg}\n!!!!!!!!\n");
+        return Ok(());
+    }
     let out_root = root.join("target").join("qemu");
     let mut rows: Vec<FrameRow> = Vec::new();
     let mut setup_lines = Vec::new();
-    let mut sizes = Vec::new();
+    let mut sizes = real;
     let mut calibration = Vec::new();
     let mut scenes = HashMap::new();
     let (mut checked, mut mismatched) = (0, Vec::new());
