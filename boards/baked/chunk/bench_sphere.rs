@@ -6,19 +6,15 @@
 
 #![allow(dead_code, clippy::all)]
 
-use fixshade::fixed::Angle;
 use fixshade::fixed::{Q16_16, Q2_14};
 use fixshade::geometry::{Mesh, MeshError};
+use fixshade::fixed::Angle;
 use fixshade::light::{Light, LightKind, Material};
 use fixshade::scene::{Camera, Object, Placement, Projection, Scene, ShadingMode};
 
 /// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,
 /// Q2.14 normals, triangles.
-pub type Chunk = (
-    &'static [[Q16_16; 3]],
-    &'static [[Q2_14; 3]],
-    &'static [[u16; 3]],
-);
+pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]]);
 
 const fn q(bits: i32) -> Q16_16 {
     Q16_16::from_bits(bits)
@@ -55,20 +51,9 @@ pub fn scene() -> Result<Scene<'static>, MeshError> {
         eye: [q(0), q(0), q(0)],
         target: [q(0), q(0), q(-65536)],
         up: [q(0), q(65536), q(0)],
-        projection: Projection::Perspective {
-            fovy: Angle::from_turns_bits(536870912),
-            near: q(65536),
-            far: q(655360),
-        },
+        projection: Projection::Perspective { fovy: Angle::from_turns_bits(536870912), near: q(65536), far: q(655360) },
     });
-    let _ = s.add_light(Light {
-        kind: LightKind::Directional {
-            direction: [q(32768), q(39322), q(65536)],
-        },
-        ambient: [q(0), q(0), q(0)],
-        diffuse: [q(65536), q(65536), q(65536)],
-        specular: [q(65536), q(65536), q(65536)],
-    });
+    let _ = s.add_light(Light { kind: LightKind::Directional { direction: [q(32768), q(39322), q(65536)] }, ambient: [q(0), q(0), q(0)], diffuse: [q(65536), q(65536), q(65536)], specular: [q(65536), q(65536), q(65536)] });
     s.global_ambient = [q(13107), q(13107), q(13107)];
     s.local_viewer = false;
     s.cull_back = true;
@@ -78,20 +63,10 @@ pub fn scene() -> Result<Scene<'static>, MeshError> {
         mesh: chunk_mesh(&OBJECTS[0][0])?,
         placement: Placement {
             translate: [q(0), q(0), q(-196608)],
-            rotate: [
-                Angle::from_turns_bits(0),
-                Angle::from_turns_bits(0),
-                Angle::from_turns_bits(0),
-            ],
+            rotate: [Angle::from_turns_bits(0), Angle::from_turns_bits(0), Angle::from_turns_bits(0)],
             scale: q(65536),
         },
-        material: Material {
-            emission: [q(0), q(0), q(0)],
-            ambient: [q(13107), q(13107), q(13107)],
-            diffuse: [q(45875), q(32768), q(19661)],
-            specular: [q(32768), q(32768), q(32768)],
-            shininess: q(2097152),
-        },
+        material: Material { emission: [q(0), q(0), q(0)], ambient: [q(13107), q(13107), q(13107)], diffuse: [q(45875), q(32768), q(19661)], specular: [q(32768), q(32768), q(32768)], shininess: q(2097152) },
     });
     Ok(s)
 }

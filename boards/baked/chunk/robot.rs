@@ -6,19 +6,15 @@
 
 #![allow(dead_code, clippy::all)]
 
-use fixshade::fixed::Angle;
 use fixshade::fixed::{Q16_16, Q2_14};
 use fixshade::geometry::{Mesh, MeshError};
+use fixshade::fixed::Angle;
 use fixshade::light::{Light, LightKind, Material};
 use fixshade::scene::{Camera, Object, Placement, Projection, Scene, ShadingMode};
 
 /// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,
 /// Q2.14 normals, triangles.
-pub type Chunk = (
-    &'static [[Q16_16; 3]],
-    &'static [[Q2_14; 3]],
-    &'static [[u16; 3]],
-);
+pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]]);
 
 const fn q(bits: i32) -> Q16_16 {
     Q16_16::from_bits(bits)
@@ -55,29 +51,10 @@ pub fn scene() -> Result<Scene<'static>, MeshError> {
         eye: [q(0), q(39322), q(203162)],
         target: [q(0), q(0), q(0)],
         up: [q(0), q(65536), q(0)],
-        projection: Projection::Perspective {
-            fovy: Angle::from_turns_bits(536870912),
-            near: q(65536),
-            far: q(655360),
-        },
+        projection: Projection::Perspective { fovy: Angle::from_turns_bits(536870912), near: q(65536), far: q(655360) },
     });
-    let _ = s.add_light(Light {
-        kind: LightKind::Directional {
-            direction: [q(-39322), q(45875), q(52429)],
-        },
-        ambient: [q(0), q(0), q(0)],
-        diffuse: [q(52429), q(52429), q(55706)],
-        specular: [q(65536), q(65536), q(65536)],
-    });
-    let _ = s.add_light(Light {
-        kind: LightKind::Point {
-            position: [q(163840), q(98304), q(163840)],
-            attenuation: [q(65536), q(3277), q(655)],
-        },
-        ambient: [q(0), q(0), q(0)],
-        diffuse: [q(39322), q(32768), q(26214)],
-        specular: [q(39322), q(36045), q(32768)],
-    });
+    let _ = s.add_light(Light { kind: LightKind::Directional { direction: [q(-39322), q(45875), q(52429)] }, ambient: [q(0), q(0), q(0)], diffuse: [q(52429), q(52429), q(55706)], specular: [q(65536), q(65536), q(65536)] });
+    let _ = s.add_light(Light { kind: LightKind::Point { position: [q(163840), q(98304), q(163840)], attenuation: [q(65536), q(3277), q(655)] }, ambient: [q(0), q(0), q(0)], diffuse: [q(39322), q(32768), q(26214)], specular: [q(39322), q(36045), q(32768)] });
     s.global_ambient = [q(13107), q(13107), q(13107)];
     s.local_viewer = false;
     s.cull_back = true;
@@ -87,20 +64,10 @@ pub fn scene() -> Result<Scene<'static>, MeshError> {
         mesh: chunk_mesh(&OBJECTS[0][0])?,
         placement: Placement {
             translate: [q(0), q(0), q(0)],
-            rotate: [
-                Angle::from_turns_bits(0),
-                Angle::from_turns_bits(3937053355),
-                Angle::from_turns_bits(0),
-            ],
+            rotate: [Angle::from_turns_bits(0), Angle::from_turns_bits(3937053355), Angle::from_turns_bits(0)],
             scale: q(65536),
         },
-        material: Material {
-            emission: [q(0), q(0), q(0)],
-            ambient: [q(16384), q(16384), q(17695)],
-            diffuse: [q(36045), q(37356), q(39322)],
-            specular: [q(52429), q(52429), q(52429)],
-            shininess: q(3145728),
-        },
+        material: Material { emission: [q(0), q(0), q(0)], ambient: [q(16384), q(16384), q(17695)], diffuse: [q(36045), q(37356), q(39322)], specular: [q(52429), q(52429), q(52429)], shininess: q(3145728) },
     });
     Ok(s)
 }
@@ -4540,7 +4507,9 @@ static O0C22_N: [[Q2_14; 3]; 3] = [
     [n(0), n(0), n(-16384)],
     [n(0), n(0), n(-16384)],
 ];
-static O0C22_T: [[u16; 3]; 1] = [[0, 1, 2]];
+static O0C22_T: [[u16; 3]; 1] = [
+    [0, 1, 2],
+];
 static OBJECT0: [Chunk; 23] = [
     (&O0C0_P, &O0C0_N, &O0C0_T),
     (&O0C1_P, &O0C1_N, &O0C1_T),
