@@ -3,7 +3,8 @@
 //! with the host render of the same scene and span method, and writes the
 //! instruction table (docs/mcu-instructions.md and .csv).
 //!
-//! It first builds the real-board crates (`boards/rp-pico-st7789`), which need a
+//! It first builds the real-board crates (`boards/rp-pico-st7789`,
+//! `boards/stm32f429i-disco`), which need a
 //! board to run, and prints their flash and RAM sizes.
 //!
 //! QEMU comes from the system (`apt-get install qemu-system-arm`, done here when
@@ -80,11 +81,18 @@ const IMAGES: &[Image] = &[
 
 /// Firmware for real boards: built (not run) by `cargo xtask qemu`, sizes printed.
 /// (crate under boards/, target, binary).
-const REAL_BOARDS: &[(&str, &str, &str)] = &[(
-    "rp-pico-st7789",
-    "thumbv6m-none-eabi",
-    "fixshade-rp-pico-st7789",
-)];
+const REAL_BOARDS: &[(&str, &str, &str)] = &[
+    (
+        "rp-pico-st7789",
+        "thumbv6m-none-eabi",
+        "fixshade-rp-pico-st7789",
+    ),
+    (
+        "stm32f429i-disco",
+        "thumbv7em-none-eabihf",
+        "fixshade-stm32f429i-disco",
+    ),
+];
 
 /// Builds the real-board crates; returns (label, flash, static RAM) per image.
 fn build_real_boards(root: &Path) -> Result<Vec<(String, u64, u64)>, String> {
