@@ -137,8 +137,8 @@ fn file_name<'b>(buf: &'b mut [u8; 64], figure: &str, case: &str) -> &'b CStr {
 fn run() -> Result<(), &'static str> {
     let cp = cortex_m::Peripherals::take().ok_or("peripherals taken twice")?;
     let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
-    // SAFETY-free from here on: the only references to the buffers are these, taken
-    // once before any use.
+    // SAFETY: the only references to the buffers are these, taken once before any
+    // use.
     #[allow(unsafe_code)]
     let (color, depth, cache) = unsafe {
         (
