@@ -50,7 +50,14 @@ fn help_and_list() {
     assert!(h.contains("USAGE") && h.contains("fixshade render"), "{h}");
     let l = run(&args(&["list"])).unwrap();
     for w in [
-        "sphere", "teapot", "robot", "gradient", "classic", "rgb565le", "phong", "schlick-mod",
+        "sphere",
+        "teapot",
+        "robot",
+        "gradient",
+        "classic",
+        "rgb565le",
+        "phong",
+        "schlick-mod",
         "cos-quad-energy",
     ] {
         assert!(l.contains(w), "list does not mention {w}: {l}");

@@ -3,9 +3,11 @@
 
 use std::process::{Command, ExitCode};
 
+mod qemu;
+
 /// The MCU targets the core must build for, with the feature sets to try.
 const NO_STD_TARGETS: [&str; 2] = ["thumbv6m-none-eabi", "thumbv7em-none-eabihf"];
-const FEATURE_SETS: [&str; 3] = ["", "f32-input", "embedded-graphics"];
+const FEATURE_SETS: [&str; 4] = ["", "f32-input", "embedded-graphics", "defmt"];
 
 fn cargo(args: &[&str]) -> Result<(), String> {
     cargo_env(args, &[])
@@ -57,16 +59,20 @@ fn test() -> Result<(), String> {
         &["doc", "--no-deps", "--workspace"],
         &[("RUSTDOCFLAGS", "-D warnings")],
     )?;
+    // The firmware on QEMU, frames compared with the host (before the tests, so the
+    // run closes with the test summary).
+    qemu::qemu()?;
     cargo(&["test", "--workspace"])
 }
 
-const USAGE: &str =
-    "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, docs)";
+const USAGE: &str = "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, docs, qemu)
+       cargo xtask qemu    (firmware on QEMU Cortex-M0 and M4: frames compared with the host, instruction table)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("test") => test(),
+        Some("qemu") => qemu::qemu(),
         Some("help") | Some("--help") | None => {
             eprintln!("{USAGE}");
             return ExitCode::SUCCESS;

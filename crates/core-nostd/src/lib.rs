@@ -35,6 +35,8 @@
 #![deny(clippy::float_arithmetic)]
 
 pub mod clip;
+#[cfg(feature = "defmt")]
+mod defmt_impls;
 pub mod divide;
 #[cfg(feature = "embedded-graphics")]
 pub mod eg;

@@ -57,8 +57,8 @@
 
 use core::ops::Range;
 
-use crate::raster::span::SpanMethod;
 use crate::light::Specular;
+use crate::raster::span::SpanMethod;
 use crate::render::{Frame, Stats};
 use crate::renderer::DrawError;
 use crate::target::{PixelFormat, Strip, TargetError};

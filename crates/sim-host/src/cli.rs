@@ -24,6 +24,9 @@ USAGE:
                                   accuracy against time for every span method and
                                   shading mode: a table, and DIR/accuracy-vs-time.{md,csv,png}
                                   (DIR: docs/, or out/report-quick/ with --quick)
+    fixshade bake INPUT -o OUT.rs [--chunk N]
+                                  an OBJ, scene file or built-in scene as static arrays
+                                  in the core's fixed-point formats (for flash)
     fixshade list                 built-in scenes, span methods, shading modes,
                                   specular models, formats
     fixshade help                 this text
@@ -171,6 +174,7 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
     match cmd.as_str() {
         "help" | "--help" | "-h" => Ok(USAGE.to_string()),
         "list" => Ok(list()),
+        "bake" => crate::bake::run(rest),
         "render" => {
             let o = parse_opts(
                 rest,
@@ -305,7 +309,9 @@ fn list() -> String {
         for n in names {
             // `quadratic` names both a shading mode and a specular model.
             let d = match (title, n) {
-                ("specular models (--specular)", "quadratic") => "a·c² + (1 - a)·c, a(n) from a table",
+                ("specular models (--specular)", "quadratic") => {
+                    "a·c² + (1 - a)·c, a(n) from a table"
+                }
                 _ => describe(n),
             };
             out.push_str(&format!("  {n:18} {d}\n"));

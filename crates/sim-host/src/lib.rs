@@ -1,4 +1,5 @@
 //! fixshade host simulator.
+pub mod bake;
 pub mod cli;
 pub mod compare;
 pub mod convert;

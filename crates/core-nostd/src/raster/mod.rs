@@ -91,8 +91,8 @@ impl EdgeAttrs {
         for k in 0..ATTRS {
             let da = (ab[k] - at[k]) as i128;
             inc[k] = (((da * 16) << 16) / dy) as i64;
-            val[k] = ((((at[k] as i128 + setup::ROUND_BIAS as i128) << 16) + ((da * off) << 16) / dy)
-                as i64)
+            val[k] = ((((at[k] as i128 + setup::ROUND_BIAS as i128) << 16)
+                + ((da * off) << 16) / dy) as i64)
                 .wrapping_add(steps.wrapping_mul(inc[k]));
         }
         EdgeAttrs { val, inc }

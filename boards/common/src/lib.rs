@@ -1,0 +1,265 @@
+//! What the QEMU firmware images share: the table of span methods each frame is drawn
+//! with, a deterministic instruction counter on SysTick, and the line each frame logs.
+//!
+//! Instruction counts: QEMU runs the firmware with `-icount shift=10`, so every
+//! instruction advances the virtual clock by 2¹⁰ ns and SysTick, clocked from the
+//! core clock `F`, advances `F · 1024 / 10⁹` ticks per instruction (25.6 at 25 MHz
+//! on mps2-an386, 16.384 at 16 MHz on the nRF51). [`Counter`] counts SysTick's wraps
+//! in its exception handler and converts ticks to instructions. The handler's own
+//! few instructions per wrap (one wrap per 2²⁴ ticks: ≥ 600 000 instructions) are
+//! counted too, a bias below 0.01 %. Under `-icount` the counts do not depend on the
+//! host: the same image gives the same numbers on every run.
+#![no_std]
+#![deny(missing_docs, unsafe_code)]
+
+use core::marker::PhantomData;
+use core::sync::atomic::{AtomicU32, Ordering};
+
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::{SCB, SYST};
+use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
+use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
+use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod};
+use fixshade::render::{Frame, RenderError, Stats};
+use fixshade::shade::Shading;
+use fixshade::target::{PixelFormat, Target};
+
+/// SysTick reload: the full 24 bits.
+const RELOAD: u32 = 0x00FF_FFFF;
+
+/// Ticks after a wrap in which [`Counter::ticks`] waits (about 40 instructions on
+/// the nRF51, 20 on mps2).
+const GUARD: u32 = 640;
+
+static WRAPS: AtomicU32 = AtomicU32::new(0);
+
+/// To be called from the board's `SysTick` exception handler.
+pub fn on_systick() {
+    // Only this handler writes WRAPS; load + store is enough on one core (thumbv6m
+    // has no atomic read-modify-write).
+    WRAPS.store(WRAPS.load(Ordering::Relaxed) + 1, Ordering::Relaxed);
+}
+
+/// An instruction counter on SysTick, valid under QEMU's `-icount shift=SHIFT`.
+pub struct Counter {
+    syst: SYST,
+    /// Core clock in Hz (SysTick's clock source).
+    hz: u64,
+    /// QEMU's icount shift: one instruction = 2^shift ns.
+    shift: u32,
+}
+
+impl Counter {
+    /// Starts SysTick on the core clock `hz`, wrapping every 2²⁴ ticks with its
+    /// exception enabled.
+    pub fn start(mut syst: SYST, hz: u32, shift: u32) -> Counter {
+        syst.disable_counter();
+        syst.set_clock_source(SystClkSource::Core);
+        syst.set_reload(RELOAD);
+        syst.clear_current();
+        syst.enable_interrupt();
+        syst.enable_counter();
+        Counter {
+            syst,
+            hz: hz as u64,
+            shift,
+        }
+    }
+
+    /// SysTick ticks since `start`.
+    pub fn ticks(&mut self) -> u64 {
+        loop {
+            let (v, w) = cortex_m::interrupt::free(|_| {
+                let mut v = SYST::get_current();
+                let mut w = WRAPS.load(Ordering::Relaxed);
+                // A wrap whose exception is pending (masked here) has happened: count
+                // it, and re-read the value, which is then certainly after the wrap.
+                if SCB::is_pendst_pending() {
+                    v = SYST::get_current();
+                    w += 1;
+                }
+                (v, w)
+            });
+            // Right after a wrap QEMU may show the reloaded value a moment before it
+            // raises the exception (the timer callback runs at the next instruction
+            // boundary it checks). Within `GUARD` ticks of the reload value, wait with
+            // interrupts enabled until the wrap has surely been counted.
+            if v < RELOAD - GUARD {
+                return w as u64 * (RELOAD as u64 + 1) + (RELOAD - v) as u64;
+            }
+        }
+    }
+
+    /// Instructions in `ticks` SysTick ticks: ticks · 10⁹ / (hz · 2^shift). Convert
+    /// differences (short spans), not totals, so the product stays in u64.
+    pub fn instructions(&self, ticks: u64) -> u64 {
+        // ticks < 2^34 (an hour of virtual time), 10^9 < 2^30: product < 2^64.
+        ticks * 1_000_000_000 / (self.hz << self.shift)
+    }
+
+    /// Runs `f` and returns its result with the instructions it took.
+    pub fn measure<R>(&mut self, f: impl FnOnce() -> R) -> (R, u64) {
+        let a = self.ticks();
+        let r = f();
+        let b = self.ticks();
+        (r, self.instructions(b - a))
+    }
+
+    /// Gives SysTick back.
+    pub fn free(self) -> SYST {
+        self.syst
+    }
+}
+
+/// Runs a loop of exactly `2·n + 1` instructions (`subs` and `bne` per turn, the
+/// last `bne` falls through; plus one `mov`), to check the counter's scale.
+#[allow(unsafe_code)]
+#[inline(never)]
+pub fn known_loop(n: u32) {
+    if n == 0 {
+        return;
+    }
+    // SAFETY: touches only the scratch register it declares.
+    unsafe {
+        core::arch::asm!(
+            "mov {r}, {n}",
+            "2:",
+            "subs {r}, #1",
+            "bne 2b",
+            n = in(reg) n,
+            r = out(reg) _,
+            options(nomem, nostack),
+        );
+    }
+}
+
+/// Calibrates [`Counter`]: instructions it measures for an empty span and for
+/// [`known_loop`] of `n` turns, logged as `CALIBRATE board empty loop expected`.
+pub fn calibrate(counter: &mut Counter, out: &mut impl core::fmt::Write, board: &str) {
+    let ((), empty) = counter.measure(|| ());
+    let n = 100_000;
+    let ((), looped) = counter.measure(|| known_loop(n));
+    let _ = writeln!(
+        out,
+        "CALIBRATE {board} {empty} {looped} {}",
+        2 * n as u64 + 1
+    );
+}
+
+/// Draws a prepared frame into a target with one span method.
+pub type DrawFn<P, T> = fn(&Frame<'_, '_, '_, P>, &mut T) -> Result<Stats, RenderError>;
+
+/// How a case is drawn: the call into the core every case of a table shares.
+pub trait Mode {
+    /// Draws `f` into `t` with span method `S`.
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+    ) -> Result<Stats, RenderError>;
+}
+
+/// [`Frame::draw`]: the scene's depth and shading settings.
+pub struct SceneSettings;
+
+impl Mode for SceneSettings {
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+    ) -> Result<Stats, RenderError> {
+        f.draw::<S, T>(t)
+    }
+}
+
+/// [`Frame::draw_with`] for one depth mode and shading fixed by type: what
+/// [`Frame::draw`] calls for a scene with those settings, with the code of the other
+/// settings left out of the image (for small flash).
+pub struct Fixed<Z, Sh>(PhantomData<(Z, Sh)>);
+
+impl<Z: DepthMode, Sh: Shading> Mode for Fixed<Z, Sh> {
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+    ) -> Result<Stats, RenderError> {
+        f.draw_with::<S, Z, Sh, T>(t)
+    }
+}
+
+fn entry<S: SpanMethod, M: Mode, P: PixelFormat, T: Target<P>>(
+    f: &Frame<'_, '_, '_, P>,
+    t: &mut T,
+) -> Result<Stats, RenderError> {
+    M::run::<S, P, T>(f, t)
+}
+
+/// Number of cases in [`cases`].
+pub const CASES: usize = 15;
+
+/// The axes every frame is drawn over, as one table: each entry names the case as
+/// the host does (`fixshade render --span NAME`) and draws it. A new axis (a divider,
+/// a specular model) becomes one more type parameter of `entry` and one more line per
+/// variant here.
+macro_rules! cases {
+    ($M:ty, $P:ty, $T:ty; $($name:literal => $S:ty),* $(,)?) => {
+        [$(($name, entry::<$S, $M, $P, $T> as DrawFn<$P, $T>)),*]
+    };
+}
+
+/// Every span method, in the host's order (`fixshade list`), drawn by `M`.
+pub fn cases<M: Mode, P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<P, T>); CASES] {
+    cases!(M, P, T;
+        "classic" => Classic,
+        "gradient" => Gradient,
+        "even-odd" => EvenOdd,
+        "kway2" => KWay<2>,
+        "kway3" => KWay<3>,
+        "kway4" => KWay<4>,
+        "counter" => CounterSpan,
+        "segment2" => Segment<2>,
+        "segment4" => Segment<4>,
+        "segment8" => Segment<8>,
+        "segment16" => Segment<16>,
+        "segment32" => Segment<32>,
+        "segment64" => Segment<64>,
+        "sierpinski" => Sierpinski,
+        "sierpinski-exact" => SierpinskiExact,
+    )
+}
+
+/// The measurements of one frame, as the `FRAME` log line carries them.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct FrameLog {
+    /// Frame width.
+    pub width: u32,
+    /// Frame height.
+    pub height: u32,
+    /// Instructions in `Frame::prepare` (vertex stage), summed over its runs.
+    pub prepare: u64,
+    /// Instructions in `Frame::draw`, summed over strips and chunks.
+    pub draw: u64,
+    /// Draw statistics, summed.
+    pub stats: Stats,
+}
+
+impl FrameLog {
+    /// Writes the line `FRAME board figure case w h triangles drawn pixels prepare
+    /// draw` that `cargo xtask qemu` reads.
+    pub fn write(
+        &self,
+        out: &mut impl core::fmt::Write,
+        board: &str,
+        figure: &str,
+        case: &str,
+    ) -> core::fmt::Result {
+        writeln!(
+            out,
+            "FRAME {board} {figure} {case} {} {} {} {} {} {} {}",
+            self.width,
+            self.height,
+            self.stats.triangles,
+            self.stats.drawn,
+            self.stats.pixels,
+            self.prepare,
+            self.draw
+        )
+    }
+}

@@ -1,0 +1,608 @@
+//! `cargo xtask qemu`: builds the QEMU firmware images in `boards/`, runs them under
+//! `qemu-system-arm -icount shift=10`, compares every frame they write byte for byte
+//! with the host render of the same scene and span method, and writes the
+//! instruction table (docs/mcu-instructions.md and .csv).
+//!
+//! It first builds the real-board crates (`boards/rp-pico-st7789`,
+//! `boards/stm32f429i-disco`), which need a
+//! board to run, and prints their flash and RAM sizes.
+//!
+//! QEMU comes from the system (`apt-get install qemu-system-arm`, done here when
+//! running as root). Without it the task fails under `CI=true` and is skipped, loudly,
+//! elsewhere.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use fixshade_sim::bake::render_chunked;
+use fixshade_sim::desc::{Named, SpanName};
+use fixshade_sim::pipeline::{self, LoadedScene};
+
+/// One firmware image: the board crate, cargo features, the QEMU machine.
+struct Image {
+    /// Directory under `boards/`.
+    krate: &'static str,
+    /// Cargo features selecting what the image renders.
+    features: &'static str,
+    /// Target triple (the crate's `.cargo/config.toml` names it too).
+    target: &'static str,
+    /// Binary name.
+    bin: &'static str,
+    /// QEMU `-machine` and `-cpu`.
+    machine: &'static str,
+    cpu: &'static str,
+}
+
+const IMAGES: &[Image] = &[
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-qemu-mps2-an386",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "sphere",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "teapot",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "robot",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "bench-sphere",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+    },
+];
+
+/// Firmware for real boards: built (not run) by `cargo xtask qemu`, sizes printed.
+/// (crate under boards/, target, binary).
+const REAL_BOARDS: &[(&str, &str, &str)] = &[
+    (
+        "rp-pico-st7789",
+        "thumbv6m-none-eabi",
+        "fixshade-rp-pico-st7789",
+    ),
+    (
+        "stm32f429i-disco",
+        "thumbv7em-none-eabihf",
+        "fixshade-stm32f429i-disco",
+    ),
+];
+
+/// Builds the real-board crates; returns (label, flash, static RAM) per image.
+fn build_real_boards(root: &Path) -> Result<Vec<(String, u64, u64)>, String> {
+    let mut sizes = Vec::new();
+    for (krate, target, bin) in REAL_BOARDS {
+        let dir = root.join("boards").join(krate);
+        cargo_build(&dir, "")?;
+        let elf = dir.join("target").join(target).join("release").join(bin);
+        let (flash, ram) = elf_sizes(&elf)?;
+        eprintln!("xtask: {krate}: flash {flash} B, static RAM {ram} B (built, not run)");
+        sizes.push((format!("{krate} (built, not run)"), flash, ram));
+    }
+    Ok(sizes)
+}
+
+/// The longest a firmware run may take in wall time before it counts as hung.
+const RUN_LIMIT: Duration = Duration::from_secs(900);
+
+/// One `FRAME` line.
+#[derive(Clone, Debug)]
+struct FrameRow {
+    board: String,
+    figure: String,
+    case: String,
+    width: u32,
+    height: u32,
+    triangles: u64,
+    drawn: u64,
+    pixels: u64,
+    prepare: u64,
+    draw: u64,
+}
+
+impl FrameRow {
+    fn parse(line: &str) -> Option<FrameRow> {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        if f.len() != 11 || f[0] != "FRAME" {
+            return None;
+        }
+        let n = |i: usize| f[i].parse::<u64>().ok();
+        Some(FrameRow {
+            board: f[1].into(),
+            figure: f[2].into(),
+            case: f[3].into(),
+            width: n(4)? as u32,
+            height: n(5)? as u32,
+            triangles: n(6)?,
+            drawn: n(7)?,
+            pixels: n(8)?,
+            prepare: n(9)?,
+            draw: n(10)?,
+        })
+    }
+
+    fn total(&self) -> u64 {
+        self.prepare + self.draw
+    }
+}
+
+/// Flash and RAM of an ELF image, from its loadable segments: file bytes go to
+/// flash, memory bytes of segments placed at or above 0x2000_0000 are RAM (static
+/// data; the stack takes the rest of RAM).
+fn elf_sizes(path: &Path) -> Result<(u64, u64), String> {
+    let b = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let bad = || format!("{}: not a 32-bit little-endian ELF", path.display());
+    if b.len() < 52 || &b[..4] != b"\x7fELF" || b[4] != 1 || b[5] != 1 {
+        return Err(bad());
+    }
+    let u32_at = |o: usize| -> Result<u64, String> {
+        b.get(o..o + 4)
+            .map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]) as u64)
+            .ok_or_else(bad)
+    };
+    let u16_at = |o: usize| -> Result<u64, String> {
+        b.get(o..o + 2)
+            .map(|s| u16::from_le_bytes([s[0], s[1]]) as u64)
+            .ok_or_else(bad)
+    };
+    let phoff = u32_at(28)? as usize;
+    let phentsize = u16_at(42)? as usize;
+    let phnum = u16_at(44)? as usize;
+    let (mut flash, mut ram) = (0, 0);
+    for i in 0..phnum {
+        let o = phoff + i * phentsize;
+        if u32_at(o)? != 1 {
+            continue; // not PT_LOAD
+        }
+        let (vaddr, filesz, memsz) = (u32_at(o + 8)?, u32_at(o + 16)?, u32_at(o + 20)?);
+        flash += filesz;
+        if vaddr >= 0x2000_0000 {
+            ram += memsz;
+        }
+    }
+    Ok((flash, ram))
+}
+
+fn have_qemu() -> bool {
+    Command::new("qemu-system-arm")
+        .arg("--version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+/// Installs qemu-system-arm with apt when running as root.
+fn ensure_qemu() -> bool {
+    if have_qemu() {
+        return true;
+    }
+    if is_root() {
+        eprintln!("xtask: qemu-system-arm not found; installing it with apt-get");
+        let ok = Command::new("apt-get")
+            .arg("update")
+            .status()
+            .is_ok_and(|s| s.success())
+            && Command::new("apt-get")
+                .args(["install", "-y", "qemu-system-arm"])
+                .env("DEBIAN_FRONTEND", "noninteractive")
+                .status()
+                .is_ok_and(|s| s.success());
+        if !ok {
+            eprintln!("xtask: apt-get could not install qemu-system-arm");
+        }
+    }
+    have_qemu()
+}
+
+fn cargo_build(dir: &Path, features: &str) -> Result<(), String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(dir).args(["build", "--release"]);
+    if !features.is_empty() {
+        cmd.args(["--no-default-features", "--features", features]);
+    }
+    // The board crates have their own target and lock file: nothing of the outer
+    // cargo invocation's environment may leak into them.
+    for (k, _) in std::env::vars() {
+        if k.starts_with("CARGO_") && k != "CARGO_HOME" {
+            cmd.env_remove(k);
+        }
+    }
+    eprintln!(
+        "xtask: cargo build --release {} (in {})",
+        if features.is_empty() {
+            String::new()
+        } else {
+            format!("--no-default-features --features {features}")
+        },
+        dir.display()
+    );
+    let st = cmd.status().map_err(|e| format!("cannot run cargo: {e}"))?;
+    if st.success() {
+        Ok(())
+    } else {
+        Err(format!("building {} failed ({st})", dir.display()))
+    }
+}
+
+/// Runs an image in `out_dir`; returns its console output.
+fn run_qemu(img: &Image, elf: &Path, out_dir: &Path) -> Result<String, String> {
+    std::fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    let mut child = Command::new("qemu-system-arm")
+        .current_dir(out_dir)
+        .args(["-cpu", img.cpu, "-machine", img.machine, "-nographic"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(["-icount", "shift=10", "-kernel"])
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot start qemu-system-arm: {e}"))?;
+    let start = Instant::now();
+    loop {
+        if let Some(st) = child.try_wait().map_err(|e| e.to_string())? {
+            let out = child
+                .wait_with_output()
+                .map_err(|e| format!("qemu output: {e}"))?;
+            let text = String::from_utf8_lossy(&out.stdout).into_owned();
+            if !st.success() {
+                return Err(format!(
+                    "{} ({}) exited with {st}\n{}{}",
+                    img.krate,
+                    img.features,
+                    text,
+                    String::from_utf8_lossy(&out.stderr)
+                ));
+            }
+            return Ok(text);
+        }
+        if start.elapsed() > RUN_LIMIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!(
+                "{} ({}) still running after {} s: killed",
+                img.krate,
+                img.features,
+                RUN_LIMIT.as_secs()
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// The host render of `figure` at `w`×`h` with span method `case`: its bytes. With
+/// `cut = Some((rows, chunk))` rendered strip by strip and chunk by chunk as the
+/// small-RAM firmware does.
+fn host_frame(
+    scenes: &mut HashMap<String, LoadedScene>,
+    figure: &str,
+    case: &str,
+    w: u32,
+    h: u32,
+    cut: Option<(u32, usize)>,
+) -> Result<Vec<u8>, String> {
+    if !scenes.contains_key(figure) {
+        scenes.insert(figure.to_string(), pipeline::load_arg(figure)?);
+    }
+    let mut ls = scenes[figure].clone();
+    ls.desc.width = w;
+    ls.desc.height = h;
+    ls.desc.span = SpanName::parse(case)?;
+    match cut {
+        None => Ok(pipeline::render(&ls, None)?.bytes),
+        Some((rows, chunk)) => render_chunked(&ls, chunk, rows),
+    }
+}
+
+fn first_difference(a: &[u8], b: &[u8]) -> String {
+    match a.iter().zip(b).position(|(x, y)| x != y) {
+        Some(i) => format!("first difference at byte {i}"),
+        None if a.len() != b.len() => "lengths differ".into(),
+        None => "identical".into(),
+    }
+}
+
+fn fmt_per(a: u64, b: u64) -> String {
+    if b == 0 {
+        "-".into()
+    } else {
+        format!("{:.2}", a as f64 / b as f64)
+    }
+}
+
+/// The task.
+pub fn qemu() -> Result<(), String> {
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .ok_or("xtask has no parent directory")?
+        .to_path_buf();
+    let status = Command::new("rustup")
+        .args([
+            "target",
+            "add",
+            "thumbv6m-none-eabi",
+            "thumbv7em-none-eabihf",
+        ])
+        .status()
+        .map_err(|e| format!("cannot run rustup: {e}"))?;
+    if !status.success() {
+        return Err("`rustup target add` failed".into());
+    }
+    let real = build_real_boards(&root)?;
+    if !ensure_qemu() {
+        let msg = "qemu-system-arm is not installed: the MCU frames were NOT checked \
+                   (install it with `apt-get install qemu-system-arm`, as root)";
+        if ci {
+            return Err(msg.into());
+        }
+        eprintln!("\n!!!!!!!!\nxtask: SKIPPED `cargo xtask qemu`: {msg}\n!!!!!!!!\n");
+        return Ok(());
+    }
+    let out_root = root.join("target").join("qemu");
+    let mut rows: Vec<FrameRow> = Vec::new();
+    let mut setup_lines = Vec::new();
+    let mut sizes = real;
+    let mut calibration = Vec::new();
+    let mut scenes = HashMap::new();
+    let (mut checked, mut mismatched) = (0, Vec::new());
+    // Frames of the strip-and-chunk path that differ from the host's whole-frame
+    // render (they match the host's strip-and-chunk render, or they are mismatches).
+    let mut layout_differs = Vec::new();
+    for img in IMAGES {
+        let dir = root.join("boards").join(img.krate);
+        cargo_build(&dir, img.features)?;
+        let elf = dir
+            .join("target")
+            .join(img.target)
+            .join("release")
+            .join(img.bin);
+        let (flash, ram) = elf_sizes(&elf)?;
+        let label = if img.features.is_empty() {
+            img.krate.to_string()
+        } else {
+            format!("{} ({})", img.krate, img.features)
+        };
+        sizes.push((label.clone(), flash, ram));
+        let out_dir = out_root.join(format!("{}-{}", img.krate, img.features));
+        let _ = std::fs::remove_dir_all(&out_dir);
+        let t = Instant::now();
+        let log = run_qemu(img, &elf, &out_dir)?;
+        eprintln!(
+            "xtask: {label}: ran in {:.1} s; flash {flash} B, static RAM {ram} B",
+            t.elapsed().as_secs_f64()
+        );
+        if !log.lines().any(|l| l.starts_with("DONE ")) {
+            return Err(format!("{label}: no DONE line\n{log}"));
+        }
+        let mut layout: HashMap<String, (u32, usize)> = HashMap::new();
+        for line in log.lines() {
+            if line.starts_with("SETUP ") {
+                setup_lines.push(line.to_string());
+            } else if line.starts_with("CALIBRATE ") || line.starts_with("STACK ") {
+                calibration.push(line.to_string());
+            } else if let Some(rest) = line.strip_prefix("LAYOUT ") {
+                let f: Vec<&str> = rest.split_whitespace().collect();
+                if let [_, fig, rows, chunk] = f.as_slice() {
+                    let rows = rows.parse().map_err(|_| format!("bad line: {line}"))?;
+                    let chunk = chunk.parse().map_err(|_| format!("bad line: {line}"))?;
+                    layout.insert(fig.to_string(), (rows, chunk));
+                }
+            }
+            let Some(r) = FrameRow::parse(line) else {
+                continue;
+            };
+            let file = out_dir.join(format!("{}-{}.rgb565", r.figure, r.case));
+            let mcu = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+            let whole = host_frame(&mut scenes, &r.figure, &r.case, r.width, r.height, None)?;
+            let host = match layout.get(&r.figure) {
+                Some(&(rows, chunk)) if chunk > 0 => {
+                    let cut = host_frame(
+                        &mut scenes,
+                        &r.figure,
+                        &r.case,
+                        r.width,
+                        r.height,
+                        Some((rows, chunk)),
+                    )?;
+                    if cut != whole {
+                        layout_differs.push(format!(
+                            "{} {} {}: the host's own strip ({rows} rows) and chunk ({chunk} vertices) render differs from its whole-frame render ({})",
+                            r.board,
+                            r.figure,
+                            r.case,
+                            first_difference(&cut, &whole)
+                        ));
+                    }
+                    cut
+                }
+                _ => whole,
+            };
+            checked += 1;
+            if mcu != host {
+                mismatched.push(format!(
+                    "{} {} {}: {} bytes on the MCU, {} on the host, {}",
+                    r.board,
+                    r.figure,
+                    r.case,
+                    mcu.len(),
+                    host.len(),
+                    first_difference(&mcu, &host)
+                ));
+            }
+            rows.push(r);
+        }
+    }
+    let (mut md, csv) = tables(&rows, &setup_lines, &sizes, &calibration);
+    if !layout_differs.is_empty() {
+        md.push_str(
+            "\n## Strip and chunk renders that differ from the whole frame\n\n\
+             The Cortex-M0 frames are compared with the host rendering the same way (strips,\n\
+             chunked meshes); these cases of that host render differ from the host's\n\
+             whole-frame render (a property of the core, reproducible on the host alone):\n\n",
+        );
+        for l in &layout_differs {
+            let _ = writeln!(md, "- {l}");
+        }
+    }
+    println!("{md}");
+    if !mismatched.is_empty() {
+        return Err(format!(
+            "{} of {checked} MCU frames differ from the host:\n{}",
+            mismatched.len(),
+            mismatched.join("\n")
+        ));
+    }
+    let docs = root.join("docs");
+    std::fs::write(docs.join("mcu-instructions.md"), &md).map_err(|e| e.to_string())?;
+    std::fs::write(docs.join("mcu-instructions.csv"), &csv).map_err(|e| e.to_string())?;
+    eprintln!("xtask: wrote docs/mcu-instructions.md and docs/mcu-instructions.csv");
+    if checked == 0 {
+        return Err("no frames were checked".into());
+    }
+    for l in &layout_differs {
+        eprintln!("xtask: WARNING: {l}");
+    }
+    println!("qemu: {checked} frames bit-identical to the host render of the same scene, method and strip/chunk layout");
+    Ok(())
+}
+
+fn tables(
+    rows: &[FrameRow],
+    setup: &[String],
+    sizes: &[(String, u64, u64)],
+    calibration: &[String],
+) -> (String, String) {
+    let mut md = String::new();
+    let mut csv = String::from(
+        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel\n",
+    );
+    md.push_str(
+        "# Instructions on Cortex-M0 and Cortex-M4 (QEMU, `-icount shift=10`)\n\n\
+         Written by `cargo xtask qemu`; every frame below was compared byte for byte with\n\
+         the host render of the same scene and span method, and was identical (the\n\
+         Cortex-M0 frames with the host rendering the same strips and mesh chunks).\n\
+         Counts are instructions (SysTick under `-icount`, see boards/common), not cycles.\n\
+         `prepare` is the vertex stage (`Frame::prepare`), `draw` the rasterizer\n\
+         (`Frame::draw`); per pixel and per triangle divide the whole frame (prepare + draw)\n\
+         by the covered pixels and by the submitted triangles, as the host benchmark does.\n\
+         On the Cortex-M0 the frame is drawn in strips and the mesh in vertex-bounded chunks,\n\
+         so its `prepare` runs once per strip and chunk (see boards/qemu-microbit).\n\n",
+    );
+    let _ = writeln!(
+        md,
+        "## Firmware sizes\n\n| image | flash (B) | static RAM (B) |\n| --- | ---: | ---: |"
+    );
+    for (l, f, r) in sizes {
+        let _ = writeln!(md, "| {l} | {f} | {r} |");
+    }
+    md.push('\n');
+    if !setup.is_empty() {
+        md.push_str("## Triangle setup\n\n| board | figure | triangles | instructions per triangle |\n| --- | --- | ---: | ---: |\n");
+        for l in setup {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            if let [_, board, fig, n, with, without] = f.as_slice() {
+                let (n, with, without): (u64, u64, u64) = (
+                    n.parse().unwrap_or(0),
+                    with.parse().unwrap_or(0),
+                    without.parse().unwrap_or(0),
+                );
+                let _ = writeln!(
+                    md,
+                    "| {board} | {fig} | {n} | {} |",
+                    fmt_per(with.saturating_sub(without), n)
+                );
+            }
+        }
+        md.push('\n');
+    }
+    let mut key = None;
+    for r in rows {
+        let k = (r.board.clone(), r.figure.clone(), r.width, r.height);
+        if key.as_ref() != Some(&k) {
+            let _ = writeln!(
+                md,
+                "\n## {} — {} at {}×{} ({} triangles)\n\n\
+                 | method | drawn | pixels | prepare | draw | total | per pixel | per triangle | draw per pixel |\n\
+                 | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+                r.board, r.figure, r.width, r.height, r.triangles
+            );
+            key = Some(k);
+        }
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.case,
+            r.drawn,
+            r.pixels,
+            r.prepare,
+            r.draw,
+            r.total(),
+            fmt_per(r.total(), r.pixels),
+            fmt_per(r.total(), r.triangles),
+            fmt_per(r.draw, r.pixels)
+        );
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.board,
+            r.figure,
+            r.case,
+            r.width,
+            r.height,
+            r.triangles,
+            r.drawn,
+            r.pixels,
+            r.prepare,
+            r.draw,
+            r.total(),
+            fmt_per(r.total(), r.pixels),
+            fmt_per(r.total(), r.triangles),
+            fmt_per(r.draw, r.pixels)
+        );
+    }
+    if !calibration.is_empty() {
+        md.push_str("\n## Counter calibration\n\n`CALIBRATE board empty measured expected`: the counter around nothing, and around a loop of\nexactly `expected` instructions. `STACK board bytes`: peak stack (painted RAM).\n\n```text\n");
+        for l in calibration {
+            md.push_str(l);
+            md.push('\n');
+        }
+        md.push_str("```\n");
+    }
+    (md, csv)
+}
