@@ -38,6 +38,7 @@ pub mod light;
 pub mod math;
 pub mod raster;
 pub mod render;
+pub mod sampler;
 pub mod scene;
 pub mod shade;
 pub mod specular;
