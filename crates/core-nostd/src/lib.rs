@@ -37,6 +37,7 @@ pub mod geometry;
 pub mod light;
 pub mod math;
 pub mod raster;
+pub mod raycast;
 pub mod render;
 pub mod sampler;
 pub mod scene;

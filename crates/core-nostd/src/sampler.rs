@@ -342,7 +342,13 @@ mod tests {
         let g = |x: u32, y: u32| [(x * 37 + y * 11) % 256, x % 7, 255 - x % 256];
         let mut f = Counted(g, 0);
         let mut row = vec![[0; 3]; 101];
-        let n = fill_row(&mut f, 3, 1, Threshold::from_q8(1 << 20, [255; 3]), &mut row);
+        let n = fill_row(
+            &mut f,
+            3,
+            1,
+            Threshold::from_q8(1 << 20, [255; 3]),
+            &mut row,
+        );
         assert_eq!(n, 101);
         assert_eq!(f.1, 101);
         for (x, c) in row.iter().enumerate() {
@@ -400,9 +406,7 @@ mod tests {
         let mut f = Counted(g, 0);
         let mut out = vec![[0; 3]; (w * h) as usize];
         assert_eq!(fill_blocks(&mut f, w, h, 1, K0, &mut out), w * h);
-        let want: Vec<[u32; 3]> = (0..h)
-            .flat_map(|y| (0..w).map(move |x| g(x, y)))
-            .collect();
+        let want: Vec<[u32; 3]> = (0..h).flat_map(|y| (0..w).map(move |x| g(x, y))).collect();
         assert_eq!(out, want);
 
         // Flat: one evaluation per grid corner.

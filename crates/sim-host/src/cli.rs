@@ -15,13 +15,16 @@ USAGE:
     fixshade                      render the demo figures (sphere, teapot, robot)
                                   into out/ and print a table against the f64 reference
     fixshade render SCENE -o OUT.png [--span METHOD] [--shading MODE] [--format FMT]
-                                  [--strip ROWS]
+                                  [--strip ROWS] [--segment L] [--threshold K]
     fixshade reference SCENE -o OUT.png [--phong]
     fixshade compare REF.png TEST.png [--json]
     fixshade report [--quick] [--out DIR]
                                   accuracy against time for every span method and
                                   shading mode: a table, and DIR/accuracy-vs-time.{md,csv,png}
                                   (DIR: docs/, or out/report-quick/ with --quick)
+    fixshade raycast-table [--out FILE] [--runs N]
+                                  pixel-segment ray casting: evaluations, NMSE and
+                                  time for L in 1..16 and several K (FILE: docs/raycast.md)
     fixshade list                 built-in scenes, span methods, shading modes, formats
     fixshade help                 this text
 
@@ -37,14 +40,14 @@ pub struct CliError {
     pub message: String,
 }
 
-fn usage(msg: impl Into<String>) -> CliError {
+pub(crate) fn usage(msg: impl Into<String>) -> CliError {
     CliError {
         code: 2,
         message: msg.into(),
     }
 }
 
-fn fail(msg: impl Into<String>) -> CliError {
+pub(crate) fn fail(msg: impl Into<String>) -> CliError {
     CliError {
         code: 1,
         message: msg.into(),
@@ -53,13 +56,15 @@ fn fail(msg: impl Into<String>) -> CliError {
 
 /// Parsed options of one subcommand.
 #[derive(Default)]
-struct Opts {
+pub(crate) struct Opts {
     positional: Vec<String>,
     output: Option<PathBuf>,
     span: Option<SpanName>,
     shading: Option<ShadingName>,
     format: Option<FormatName>,
     strip: Option<u32>,
+    pub(crate) segment: Option<u32>,
+    pub(crate) threshold: Option<f64>,
     phong: bool,
     json: bool,
 }
@@ -96,6 +101,7 @@ fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
                     })?;
                 o.strip = Some(n);
             }
+            "--segment" | "--threshold" => crate::raycast::cli_option(&mut o, a, &value(a)?)?,
             "--phong" => o.phong = true,
             "--json" => o.json = true,
             _ => o.positional.push(a.clone()),
@@ -121,6 +127,8 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     if let Some(f) = o.format {
         d.format = f;
     }
+    d.raycast.segment = o.segment.unwrap_or(d.raycast.segment);
+    d.raycast.threshold = o.threshold.unwrap_or(d.raycast.threshold);
     pipeline::load(arg, &d, &dir).map_err(fail)
 }
 
@@ -155,6 +163,8 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                     "--shading",
                     "--format",
                     "--strip",
+                    "--segment",
+                    "--threshold",
                 ],
             )?;
             let out = output(&o)?;
@@ -231,6 +241,7 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                 files.join(", ")
             ))
         }
+        "raycast-table" => crate::raycast::table_command(rest),
         other => Err(usage(format!(
             "unknown command `{other}`; try `fixshade help`"
         ))),

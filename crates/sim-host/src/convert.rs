@@ -235,6 +235,8 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
         ShadingName::Flat => ShadingMode::Flat,
         ShadingName::Gouraud => ShadingMode::Gouraud,
         ShadingName::Quadratic => ShadingMode::Quadratic,
+        // The ray caster does not use the rasterizer's shading mode.
+        ShadingName::Raycast => ShadingMode::Gouraud,
     };
     for (o, m) in d.objects.iter().zip(meshes) {
         let mesh = m

@@ -176,6 +176,9 @@ pub enum ShadingName {
     /// Quadratic intensity surface through the vertex and edge-midpoint colours
     /// (seed 003); its reference is the exact Phong render.
     Quadratic,
+    /// Per-pixel ray casting sampled by pixel segments (seed 002 §2.6,
+    /// [`crate::raycast`]); its reference is the exact Phong render.
+    Raycast,
 }
 
 /// Span method by name.
@@ -244,6 +247,8 @@ pub struct SceneDesc {
     pub depth_test: bool,
     /// Reference renderer: perspective-correct instead of screen-affine interpolation.
     pub perspective_correct: bool,
+    /// Ray-casting settings and analytic primitives (`shading = "raycast"`).
+    pub raycast: crate::raycast::RaycastDesc,
 }
 
 /// Names of the variants of an enum selectable by name in scene files and on the
@@ -300,6 +305,7 @@ impl Named for ShadingName {
         (ShadingName::Flat, "flat"),
         (ShadingName::Gouraud, "gouraud"),
         (ShadingName::Quadratic, "quadratic"),
+        (ShadingName::Raycast, "raycast"),
     ];
 }
 
@@ -359,6 +365,7 @@ mod tests {
             ShadingName::Flat,
             ShadingName::Gouraud,
             ShadingName::Quadratic,
+            ShadingName::Raycast,
         ]);
         round_trips(&[
             FormatName::Rgb565Le,

@@ -319,6 +319,9 @@ fn to_render<P: PixelFormat>(ls: &LoadedScene, strip_rows: Option<u32>) -> Resul
 /// Renders with the fixed-point core, whole frame (`strip_rows = None`) or strip by
 /// strip.
 pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, String> {
+    if ls.desc.shading == ShadingName::Raycast {
+        return crate::raycast::render(ls);
+    }
     match ls.desc.format {
         FormatName::Rgb565Le => to_render::<Rgb565Le>(ls, strip_rows),
         FormatName::Rgb565Be => to_render::<Rgb565Be>(ls, strip_rows),

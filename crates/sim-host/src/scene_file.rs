@@ -207,7 +207,7 @@ impl fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 /// Names of the built-in scenes, for [`builtin_scene`] and [`builtin_scene_text`].
-pub const BUILTIN_SCENES: &[&str] = &["sphere", "teapot", "robot", "bench-sphere"];
+pub const BUILTIN_SCENES: &[&str] = &["sphere", "teapot", "robot", "bench-sphere", "spheres-plane"];
 
 /// The TOML text of a built-in scene (`crates/sim-host/scenes/NAME.toml`), or `None`
 /// if there is no built-in scene of that name.
@@ -217,6 +217,7 @@ pub fn builtin_scene_text(name: &str) -> Option<&'static str> {
         "teapot" => Some(include_str!("../scenes/teapot.toml")),
         "robot" => Some(include_str!("../scenes/robot.toml")),
         "bench-sphere" => Some(include_str!("../scenes/bench-sphere.toml")),
+        "spheres-plane" => Some(include_str!("../scenes/spheres-plane.toml")),
         _ => None,
     }
 }
@@ -307,10 +308,10 @@ fn fail_file<T>(message: impl Into<String>) -> R<T> {
 // Key names of every table, in documentation order (used in "expected one of").
 
 const TOP_KEYS: &[&str] = &[
-    "image", "render", "camera", "lighting", "light", "material", "object",
+    "image", "render", "camera", "lighting", "light", "material", "object", "sphere", "plane",
 ];
 const TOP_TITLES: &str =
-    "[image], [render], [camera], [lighting], [[light]], [material], [[object]]";
+    "[image], [render], [camera], [lighting], [[light]], [material], [[object]], [[sphere]], [[plane]]";
 const IMAGE_KEYS: &[&str] = &["width", "height", "format", "background"];
 const RENDER_KEYS: &[&str] = &[
     "shading",
@@ -318,6 +319,10 @@ const RENDER_KEYS: &[&str] = &[
     "cull",
     "depth_test",
     "perspective_correct",
+    "segment",
+    "threshold",
+    "block",
+    "shadows",
 ];
 const CAMERA_KEYS: &[&str] = &[
     "eye",
@@ -705,6 +710,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         cull_back: true,
         depth_test: true,
         perspective_correct: false,
+        raycast: crate::raycast::RaycastDesc::default(),
     };
 
     if let Some(v) = get("image") {
@@ -754,6 +760,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         let s = Section::from_value("[[object]]", "object", item, OBJECT_KEYS)?;
         desc.objects.push(object(&s, material)?);
     }
+    raycast_primitives(&get, material, &mut desc)?;
     Ok(desc)
 }
 
@@ -838,7 +845,7 @@ fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;
     desc.perspective_correct = s.boolean("perspective_correct", desc.perspective_correct)?;
-    Ok(())
+    raycast_render_keys(s, &mut desc.raycast)
 }
 
 fn camera(s: &Section<'_, '_>) -> R<CameraDesc> {
@@ -1078,6 +1085,87 @@ fn object(s: &Section<'_, '_>, base: MaterialDesc) -> R<ObjectDesc> {
         scale,
         material,
     })
+}
+
+// ---------------------------------------------------------------------------------
+// Ray casting (`crate::raycast`): sampler keys of [render], [[sphere]], [[plane]].
+
+fn raycast_render_keys(s: &Section<'_, '_>, r: &mut crate::raycast::RaycastDesc) -> R<()> {
+    use crate::raycast::{MAX_SEGMENT, MAX_THRESHOLD};
+    r.segment = s.int_in("segment", r.segment, 1, MAX_SEGMENT as i64)?;
+    r.threshold = s.number("threshold", r.threshold)?;
+    if !(0.0..=MAX_THRESHOLD).contains(&r.threshold) {
+        return fail(
+            s.span_of("threshold"),
+            format!(
+                "`threshold` must be between 0 and {MAX_THRESHOLD} (8-bit levels), found {}",
+                r.threshold
+            ),
+        );
+    }
+    r.block = s.boolean("block", r.block)?;
+    r.shadows = s.boolean("shadows", r.shadows)?;
+    Ok(())
+}
+
+const SPHERE_KEYS: &[&str] = &["centre", "radius", "material"];
+const PLANE_KEYS: &[&str] = &["point", "normal", "material"];
+
+fn primitive_material(
+    s: &Section<'_, '_>,
+    title: &'static str,
+    base: MaterialDesc,
+) -> R<MaterialDesc> {
+    match s.get("material") {
+        Some(v) => material(
+            &Section::from_value(title, "material", v, MATERIAL_KEYS)?,
+            base,
+        ),
+        None => Ok(base),
+    }
+}
+
+fn raycast_primitives<'t, 'i>(
+    get: &dyn Fn(&str) -> Option<&'t Val<'i>>,
+    base: MaterialDesc,
+    desc: &mut SceneDesc,
+) -> R<()>
+where
+    'i: 't,
+{
+    use crate::raycast::{PlaneDesc, SphereDesc};
+    if let Some(v) = get("sphere") {
+        for item in array_of_tables("sphere", v, fixshade::raycast::MAX_SPHERES, "spheres")? {
+            let s = Section::from_value("[[sphere]]", "sphere", item, SPHERE_KEYS)?;
+            let radius = s.number("radius", 1.0)?;
+            if radius <= 0.0 {
+                return fail(
+                    s.span_of("radius"),
+                    format!("`radius` must be greater than 0, found {radius}"),
+                );
+            }
+            desc.raycast.spheres.push(SphereDesc {
+                centre: s.vector("centre", [0.0; 3])?,
+                radius,
+                material: primitive_material(&s, "[sphere.material]", base)?,
+            });
+        }
+    }
+    if let Some(v) = get("plane") {
+        for item in array_of_tables("plane", v, fixshade::raycast::MAX_PLANES, "planes")? {
+            let s = Section::from_value("[[plane]]", "plane", item, PLANE_KEYS)?;
+            let normal = s.vector("normal", [0.0, 1.0, 0.0])?;
+            if norm2(normal) == 0.0 {
+                return fail(s.span_of("normal"), "`normal` must not be the zero vector");
+            }
+            desc.raycast.planes.push(PlaneDesc {
+                point: s.vector("point", [0.0; 3])?,
+                normal,
+                material: primitive_material(&s, "[plane.material]", base)?,
+            });
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

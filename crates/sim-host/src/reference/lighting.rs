@@ -285,6 +285,7 @@ mod tests {
             cull_back: false,
             depth_test: true,
             perspective_correct: false,
+            raycast: Default::default(),
         };
         let view = super::super::matrix::view_matrix(&scene.camera);
         let ctx = LightingContext::new(&scene, &view);

@@ -53,6 +53,7 @@ fn ortho_scene(objects: Vec<ObjectDesc>) -> SceneDesc {
         cull_back: true,
         depth_test: true,
         perspective_correct: false,
+        raycast: Default::default(),
     }
 }
 
@@ -169,6 +170,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
         cull_back: true,
         depth_test: true,
         perspective_correct: false,
+        raycast: Default::default(),
     }
 }
 
