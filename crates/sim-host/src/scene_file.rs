@@ -31,11 +31,15 @@
 //!
 //! | key | type | default | range |
 //! |-----|------|---------|-------|
-//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic` ([`ShadingName`]) |
+//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `raycast` ([`ShadingName`]) |
 //! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
 //! | `perspective_correct` | boolean | `false` | honoured by the reference renderer only |
+//! | `segment` | integer | 8 | 1..=256; `raycast` only: segment length L of the pixel-segment sampler (1: every pixel) |
+//! | `threshold` | number | 2.3 | 0..=256; `raycast` only: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |
+//! | `block` | boolean | `false` | `raycast` only: sample L × L blocks instead of row segments |
+//! | `shadows` | boolean | `true` | `raycast` only: hard shadows from the first light |
 //!
 //! ## `[camera]` (required)
 //!
@@ -94,6 +98,19 @@
 //! | `rotate` | vector | `[0, 0, 0]` | degrees about x, y and z (x applied first) |
 //! | `scale` | number | 1 | > 0 (uniform) |
 //! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges |
+//!
+//! ## `[[sphere]]` and `[[plane]]` (0 to 8 spheres, 0 to 4 planes)
+//!
+//! Analytic primitives drawn by `shading = "raycast"` only (the rasterizer draws
+//! the `[[object]]` meshes alone); a scene still needs at least one `[[object]]`.
+//!
+//! | key | type | default | range |
+//! |-----|------|---------|-------|
+//! | `centre` | vector | `[0, 0, 0]` | sphere only; world space |
+//! | `radius` | number | 1 | sphere only; > 0 |
+//! | `point` | vector | `[0, 0, 0]` | plane only; a point of the plane, world space |
+//! | `normal` | vector | `[0, 1, 0]` | plane only; non-zero (both sides are lit) |
+//! | `material` | table | the `[material]` table | written `[sphere.material]` / `[plane.material]`; overrides like `[object.material]` |
 //!
 //! # Example
 //!
