@@ -28,7 +28,8 @@ USAGE:
     fixshade list                 built-in scenes, span methods, shading modes, formats
     fixshade help                 this text
 
-SCENE is a scene file (TOML) or a built-in scene: sphere, teapot, robot, bench-sphere.
+SCENE is a scene file (TOML) or a built-in scene: sphere, teapot, robot, bench-sphere,
+spheres-plane.
 Options override the scene file. Exit status: 0 success, 1 failure, 2 bad usage.";
 
 /// A failure with its exit code: 2 for bad usage, 1 otherwise.

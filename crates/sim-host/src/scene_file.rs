@@ -1257,7 +1257,12 @@ mod tests {
             let s = builtin_scene(name).unwrap();
             assert_eq!((s.width, s.height), (320, 240));
             assert_eq!(s.format, FormatName::Rgb565Le);
-            assert_eq!(s.shading, ShadingName::Gouraud);
+            let shading = if *name == "spheres-plane" {
+                ShadingName::Raycast
+            } else {
+                ShadingName::Gouraud
+            };
+            assert_eq!(s.shading, shading);
             assert_eq!(s.span, SpanName::Gradient);
             assert!(s.cull_back && s.depth_test);
         }
@@ -1566,5 +1571,32 @@ mod tests {
         for text in inputs {
             let _ = parse_scene(&text, "fuzz.toml").map_err(|e| e.to_string());
         }
+    }
+
+    #[test]
+    fn raycast_keys_and_primitives() {
+        let d = builtin_scene("spheres-plane").unwrap();
+        assert_eq!(d.shading, ShadingName::Raycast);
+        assert_eq!((d.raycast.segment, d.raycast.threshold), (8, 2.3));
+        assert_eq!((d.raycast.spheres.len(), d.raycast.planes.len()), (2, 1));
+        assert_eq!(d.raycast.spheres[1].radius, 0.45);
+        assert_eq!(d.raycast.spheres[0].material.shininess, 60.0);
+        // The plane inherits [material] except what [plane.material] overrides.
+        assert_eq!(d.raycast.planes[0].material.shininess, 1.0);
+
+        let base = "[camera]\neye = [0, 0, 5]\n[[object]]\nmesh = \"sphere\"\n";
+        let e = err(&format!("[render]\nsegment = 0\n{base}"));
+        assert_eq!(e.line, Some(2), "{e}");
+        let e = err(&format!("[render]\nthreshold = -1\n{base}"));
+        assert!(e.message.contains("`threshold`"), "{e}");
+        let e = err(&format!("{base}[[sphere]]\nradius = 0\n"));
+        assert!(e.message.contains("`radius`"), "{e}");
+        let e = err(&format!("{base}[[plane]]\nnormal = [0, 0, 0]\n"));
+        assert!(e.message.contains("`normal`"), "{e}");
+        let e = err(&format!("{base}[[plane]]\nradius = 1\n"));
+        assert!(e.message.contains("radius"), "{e}");
+        let many = "[[plane]]\n".repeat(5);
+        let e = err(&format!("{base}{many}"));
+        assert!(e.message.contains("at most 4"), "{e}");
     }
 }
