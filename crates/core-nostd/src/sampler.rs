@@ -42,7 +42,8 @@
 //!
 //! ```
 //! use fixshade::sampler::{fill_row, PixelFn, Threshold};
-//! // A ramp: exactly linear, so every segment interpolates exactly.
+//! // A ramp: exactly linear, so every segment interpolates exactly. Segment ends
+//! // are 8 levels apart, within K = 16 levels: nothing is subdivided.
 //! struct Ramp(u32);
 //! impl PixelFn for Ramp {
 //!     fn eval(&mut self, x: u32, _y: u32) -> [u32; 3] {
@@ -52,10 +53,13 @@
 //! }
 //! let mut f = Ramp(0);
 //! let mut row = [[0u32; 3]; 17];
-//! let k = Threshold::from_q8(4 * 256, [255; 3]);
+//! let k = Threshold::from_q8(16 * 256, [255; 3]);
 //! let evals = fill_row(&mut f, 0, 8, k, &mut row);
 //! assert_eq!(evals, 3); // x = 0, 8, 16
 //! assert!(row.iter().enumerate().all(|(x, c)| c[0] == x as u32));
+//! // With K = 4 levels the 8-level steps are halved once: x = 4 and 12 too.
+//! let mut f = Ramp(0);
+//! assert_eq!(fill_row(&mut f, 0, 8, Threshold::from_q8(4 * 256, [255; 3]), &mut row), 5);
 //! ```
 
 /// A costly per-pixel function: the colour of pixel `(x, y)` in the target's
