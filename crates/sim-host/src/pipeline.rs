@@ -333,6 +333,9 @@ pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, Strin
 /// Median wall time of one frame (vertex stage + rasterization, framebuffer clear
 /// excluded) over `runs` runs.
 pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+    if ls.desc.shading == ShadingName::Raycast {
+        return crate::raycast::time_frame(ls, runs);
+    }
     fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         let d = &ls.desc;
         let scene = core_scene(d, &ls.fixed)?;

@@ -288,6 +288,17 @@ pub fn render(ls: &LoadedScene) -> Result<Render, String> {
     })
 }
 
+/// Median wall time of the sampling of one ray-cast frame (the scene's own
+/// sampling; frame preparation excluded) over `runs` runs.
+pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+    let s = Sampling::of(&ls.desc);
+    let mut t: Vec<Duration> = (0..runs.max(1))
+        .map(|_| ray_image(ls, s).map(|r| r.time))
+        .collect::<Result<_, _>>()?;
+    t.sort();
+    Ok(t[t.len() / 2])
+}
+
 // ---------------------------------------------------------------------------------
 // The table of docs/raycast.md.
 

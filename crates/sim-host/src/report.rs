@@ -163,6 +163,10 @@ pub fn configurations() -> Vec<Config> {
         })
         .collect();
     for &(shading, _) in ShadingName::ALL {
+        // Ray casting has its own table (docs/raycast.md, `fixshade raycast-table`).
+        if shading == ShadingName::Raycast {
+            continue;
+        }
         let c = Config {
             kind: Kind::Shading,
             span: SpanName::Gradient,
