@@ -15,7 +15,7 @@ USAGE:
     fixshade                      render the demo figures (sphere, teapot, robot)
                                   into out/ and print a table against the f64 reference
     fixshade render SCENE [-o OUT.png] [--span METHOD] [--shading MODE] [--format FMT]
-                                  [--specular MODEL] [--strip ROWS]
+                                  [--specular MODEL] [--strip ROWS] [--segment L] [--threshold K]
                                   render with the fixed-point core (OUT defaults to
                                   out/SCENE.png); prints the draw statistics
     fixshade reference SCENE -o OUT.png [--phong]
@@ -27,12 +27,15 @@ USAGE:
     fixshade bake INPUT -o OUT.rs [--chunk N]
                                   an OBJ, scene file or built-in scene as static arrays
                                   in the core's fixed-point formats (for flash)
+    fixshade raycast-table [--out FILE] [--runs N]
+                                  pixel-segment ray casting: evaluations, NMSE and
+                                  time for L in 1..16 and several K (FILE: docs/raycast.md)
     fixshade list                 built-in scenes, span methods, shading modes,
                                   specular models, formats
     fixshade help                 this text
 
 SCENE is a scene file (TOML, see docs/scene-files.md) or a built-in scene: sphere,
-teapot, robot, bench-sphere. Options override the scene file; `fixshade list` names
+teapot, robot, bench-sphere, spheres-plane. Options override the scene file; `fixshade list` names
 every METHOD, MODE, MODEL and FMT with a line on each. `fixshade COMMAND --help`
 prints this text. Exit status: 0 success, 1 failure (unreadable file, bad scene,
 render error), 2 bad usage.";
@@ -46,14 +49,14 @@ pub struct CliError {
     pub message: String,
 }
 
-fn usage(msg: impl Into<String>) -> CliError {
+pub(crate) fn usage(msg: impl Into<String>) -> CliError {
     CliError {
         code: 2,
         message: msg.into(),
     }
 }
 
-fn fail(msg: impl Into<String>) -> CliError {
+pub(crate) fn fail(msg: impl Into<String>) -> CliError {
     CliError {
         code: 1,
         message: msg.into(),
@@ -62,7 +65,7 @@ fn fail(msg: impl Into<String>) -> CliError {
 
 /// Parsed options of one subcommand.
 #[derive(Default)]
-struct Opts {
+pub(crate) struct Opts {
     positional: Vec<String>,
     output: Option<PathBuf>,
     span: Option<SpanName>,
@@ -70,6 +73,8 @@ struct Opts {
     specular: Option<SpecularName>,
     format: Option<FormatName>,
     strip: Option<u32>,
+    pub(crate) segment: Option<u32>,
+    pub(crate) threshold: Option<f64>,
     phong: bool,
     json: bool,
 }
@@ -107,6 +112,7 @@ fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
                     })?;
                 o.strip = Some(n);
             }
+            "--segment" | "--threshold" => crate::raycast::cli_option(&mut o, a, &value(a)?)?,
             "--phong" => o.phong = true,
             "--json" => o.json = true,
             _ => o.positional.push(a.clone()),
@@ -135,6 +141,8 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     if let Some(s) = o.specular {
         d.specular = s;
     }
+    d.raycast.segment = o.segment.unwrap_or(d.raycast.segment);
+    d.raycast.threshold = o.threshold.unwrap_or(d.raycast.threshold);
     pipeline::load(arg, &d, &dir).map_err(fail)
 }
 
@@ -186,6 +194,8 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                     "--format",
                     "--specular",
                     "--strip",
+                    "--segment",
+                    "--threshold",
                 ],
             )?;
             let ls = load_with(&o)?;
@@ -262,6 +272,7 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                 files.join(", ")
             ))
         }
+        "raycast-table" => crate::raycast::table_command(rest),
         other => Err(usage(format!(
             "unknown command `{other}`; try `fixshade help`"
         ))),
@@ -286,6 +297,7 @@ fn describe(name: &str) -> &'static str {
         "quadratic" => "quadratic surface through vertex and edge-midpoint colours (seed 003)",
         "phong" => "normals interpolated, every pixel lit",
         "phong-even-odd" => "phong with two accumulators per normal component; same pixels",
+        "raycast" => "fixed-point ray casting sampled by pixel segments (--segment, --threshold)",
         "exact" => "c^n",
         "schlick" => "c / (n - n·c + c)",
         "schlick-mod" => "the seed's modified Schlick",

@@ -237,6 +237,8 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
         ShadingName::Quadratic => ShadingMode::Quadratic,
         ShadingName::Phong => ShadingMode::Phong,
         ShadingName::PhongEvenOdd => ShadingMode::PhongEvenOdd,
+        // The ray caster does not use the rasterizer's shading mode.
+        ShadingName::Raycast => ShadingMode::Gouraud,
     };
     for (o, m) in d.objects.iter().zip(meshes) {
         let mesh = m

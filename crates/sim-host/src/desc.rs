@@ -180,6 +180,9 @@ pub enum ShadingName {
     Phong,
     /// Phong with the even/odd fill of seed 003 (the same pixels).
     PhongEvenOdd,
+    /// Per-pixel ray casting sampled by pixel segments (seed 002 §2.6,
+    /// [`crate::raycast`]); its reference is the exact Phong render.
+    Raycast,
 }
 
 impl ShadingName {
@@ -187,7 +190,10 @@ impl ShadingName {
     pub fn phong_reference(self) -> bool {
         matches!(
             self,
-            ShadingName::Quadratic | ShadingName::Phong | ShadingName::PhongEvenOdd
+            ShadingName::Quadratic
+                | ShadingName::Phong
+                | ShadingName::PhongEvenOdd
+                | ShadingName::Raycast
         )
     }
 }
@@ -277,6 +283,8 @@ pub struct SceneDesc {
     pub perspective_correct: bool,
     /// Specular model of the fixed-point renderer (the reference is always exact).
     pub specular: SpecularName,
+    /// Ray-casting settings and analytic primitives (`shading = "raycast"`).
+    pub raycast: crate::raycast::RaycastDesc,
 }
 
 /// Names of the variants of an enum selectable by name in scene files and on the
@@ -335,6 +343,7 @@ impl Named for ShadingName {
         (ShadingName::Quadratic, "quadratic"),
         (ShadingName::Phong, "phong"),
         (ShadingName::PhongEvenOdd, "phong-even-odd"),
+        (ShadingName::Raycast, "raycast"),
     ];
 }
 
@@ -408,6 +417,7 @@ mod tests {
             ShadingName::Quadratic,
             ShadingName::Phong,
             ShadingName::PhongEvenOdd,
+            ShadingName::Raycast,
         ]);
         use SpecularName as Sp;
         round_trips(&[

@@ -8,6 +8,7 @@ pub mod desc;
 pub mod image;
 pub mod mesh;
 pub mod pipeline;
+pub mod raycast;
 pub mod reference;
 pub mod report;
 pub mod scene_file;

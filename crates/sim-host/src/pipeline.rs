@@ -374,6 +374,9 @@ fn to_render<P: PixelFormat>(ls: &LoadedScene, strip_rows: Option<u32>) -> Resul
 /// Renders with the fixed-point core, whole frame (`strip_rows = None`) or strip by
 /// strip.
 pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, String> {
+    if ls.desc.shading == ShadingName::Raycast {
+        return crate::raycast::render(ls);
+    }
     match ls.desc.format {
         FormatName::Rgb565Le => to_render::<Rgb565Le>(ls, strip_rows),
         FormatName::Rgb565Be => to_render::<Rgb565Be>(ls, strip_rows),
@@ -385,6 +388,9 @@ pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, Strin
 /// Median wall time of one frame (vertex stage + rasterization, framebuffer clear
 /// excluded) over `runs` runs.
 pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+    if ls.desc.shading == ShadingName::Raycast {
+        return crate::raycast::time_frame(ls, runs);
+    }
     fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         with_specular!(ls.desc.specular, Sp => go_with::<P, Sp>(ls, runs))
     }

@@ -136,7 +136,7 @@ impl Config {
 
     /// Whether the matching reference is the per-pixel (Phong) one.
     pub fn phong_reference(&self) -> bool {
-        matches!(self.shading.name(), "phong" | "quadratic")
+        self.shading.phong_reference()
     }
 
     /// The name of the matching exact f64 reference: `phong` (per-pixel) for
@@ -163,6 +163,10 @@ pub fn configurations() -> Vec<Config> {
         })
         .collect();
     for &(shading, _) in ShadingName::ALL {
+        // Ray casting has its own table (docs/raycast.md, `fixshade raycast-table`).
+        if shading == ShadingName::Raycast {
+            continue;
+        }
         let c = Config {
             kind: Kind::Shading,
             span: SpanName::Gradient,

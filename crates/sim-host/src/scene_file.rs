@@ -31,12 +31,16 @@
 //!
 //! | key | type | default | range |
 //! |-----|------|---------|-------|
-//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd` ([`ShadingName`]) |
+//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd`, `raycast` ([`ShadingName`]) |
 //! | `specular` | string | `"exact"` | `exact`, `schlick`, `schlick-mod`, `quadratic`, `cos-quad`, `cos-quad-energy` ([`SpecularName`]; the reference is always exact) |
 //! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
 //! | `perspective_correct` | boolean | `false` | honoured by the reference renderer only |
+//! | `segment` | integer | 8 | 1..=256; `raycast` only: segment length L of the pixel-segment sampler (1: every pixel) |
+//! | `threshold` | number | 2.3 | 0..=256; `raycast` only: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |
+//! | `block` | boolean | `false` | `raycast` only: sample L × L blocks instead of row segments |
+//! | `shadows` | boolean | `true` | `raycast` only: hard shadows from the first light |
 //!
 //! ## `[camera]` (required)
 //!
@@ -95,6 +99,19 @@
 //! | `rotate` | vector | `[0, 0, 0]` | degrees about x, y and z (x applied first) |
 //! | `scale` | number | 1 | > 0 (uniform) |
 //! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges |
+//!
+//! ## `[[sphere]]` and `[[plane]]` (0 to 8 spheres, 0 to 4 planes)
+//!
+//! Analytic primitives drawn by `shading = "raycast"` only (the rasterizer draws
+//! the `[[object]]` meshes alone); a scene still needs at least one `[[object]]`.
+//!
+//! | key | type | default | range |
+//! |-----|------|---------|-------|
+//! | `centre` | vector | `[0, 0, 0]` | sphere only; world space |
+//! | `radius` | number | 1 | sphere only; > 0 |
+//! | `point` | vector | `[0, 0, 0]` | plane only; a point of the plane, world space |
+//! | `normal` | vector | `[0, 1, 0]` | plane only; non-zero (both sides are lit) |
+//! | `material` | table | the `[material]` table | written `[sphere.material]` / `[plane.material]`; overrides like `[object.material]` |
 //!
 //! # Example
 //!
@@ -208,7 +225,7 @@ impl fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 /// Names of the built-in scenes, for [`builtin_scene`] and [`builtin_scene_text`].
-pub const BUILTIN_SCENES: &[&str] = &["sphere", "teapot", "robot", "bench-sphere"];
+pub const BUILTIN_SCENES: &[&str] = &["sphere", "teapot", "robot", "bench-sphere", "spheres-plane"];
 
 /// The TOML text of a built-in scene (`crates/sim-host/scenes/NAME.toml`), or `None`
 /// if there is no built-in scene of that name.
@@ -218,6 +235,7 @@ pub fn builtin_scene_text(name: &str) -> Option<&'static str> {
         "teapot" => Some(include_str!("../scenes/teapot.toml")),
         "robot" => Some(include_str!("../scenes/robot.toml")),
         "bench-sphere" => Some(include_str!("../scenes/bench-sphere.toml")),
+        "spheres-plane" => Some(include_str!("../scenes/spheres-plane.toml")),
         _ => None,
     }
 }
@@ -308,10 +326,10 @@ fn fail_file<T>(message: impl Into<String>) -> R<T> {
 // Key names of every table, in documentation order (used in "expected one of").
 
 const TOP_KEYS: &[&str] = &[
-    "image", "render", "camera", "lighting", "light", "material", "object",
+    "image", "render", "camera", "lighting", "light", "material", "object", "sphere", "plane",
 ];
 const TOP_TITLES: &str =
-    "[image], [render], [camera], [lighting], [[light]], [material], [[object]]";
+    "[image], [render], [camera], [lighting], [[light]], [material], [[object]], [[sphere]], [[plane]]";
 const IMAGE_KEYS: &[&str] = &["width", "height", "format", "background"];
 const RENDER_KEYS: &[&str] = &[
     "shading",
@@ -320,6 +338,10 @@ const RENDER_KEYS: &[&str] = &[
     "cull",
     "depth_test",
     "perspective_correct",
+    "segment",
+    "threshold",
+    "block",
+    "shadows",
 ];
 const CAMERA_KEYS: &[&str] = &[
     "eye",
@@ -708,6 +730,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         depth_test: true,
         perspective_correct: false,
         specular: SpecularName::Exact,
+        raycast: crate::raycast::RaycastDesc::default(),
     };
 
     if let Some(v) = get("image") {
@@ -757,6 +780,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         let s = Section::from_value("[[object]]", "object", item, OBJECT_KEYS)?;
         desc.objects.push(object(&s, material)?);
     }
+    raycast_primitives(&get, material, &mut desc)?;
     Ok(desc)
 }
 
@@ -842,7 +866,7 @@ fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;
     desc.perspective_correct = s.boolean("perspective_correct", desc.perspective_correct)?;
-    Ok(())
+    raycast_render_keys(s, &mut desc.raycast)
 }
 
 fn camera(s: &Section<'_, '_>) -> R<CameraDesc> {
@@ -1084,6 +1108,87 @@ fn object(s: &Section<'_, '_>, base: MaterialDesc) -> R<ObjectDesc> {
     })
 }
 
+// ---------------------------------------------------------------------------------
+// Ray casting (`crate::raycast`): sampler keys of [render], [[sphere]], [[plane]].
+
+fn raycast_render_keys(s: &Section<'_, '_>, r: &mut crate::raycast::RaycastDesc) -> R<()> {
+    use crate::raycast::{MAX_SEGMENT, MAX_THRESHOLD};
+    r.segment = s.int_in("segment", r.segment, 1, MAX_SEGMENT as i64)?;
+    r.threshold = s.number("threshold", r.threshold)?;
+    if !(0.0..=MAX_THRESHOLD).contains(&r.threshold) {
+        return fail(
+            s.span_of("threshold"),
+            format!(
+                "`threshold` must be between 0 and {MAX_THRESHOLD} (8-bit levels), found {}",
+                r.threshold
+            ),
+        );
+    }
+    r.block = s.boolean("block", r.block)?;
+    r.shadows = s.boolean("shadows", r.shadows)?;
+    Ok(())
+}
+
+const SPHERE_KEYS: &[&str] = &["centre", "radius", "material"];
+const PLANE_KEYS: &[&str] = &["point", "normal", "material"];
+
+fn primitive_material(
+    s: &Section<'_, '_>,
+    title: &'static str,
+    base: MaterialDesc,
+) -> R<MaterialDesc> {
+    match s.get("material") {
+        Some(v) => material(
+            &Section::from_value(title, "material", v, MATERIAL_KEYS)?,
+            base,
+        ),
+        None => Ok(base),
+    }
+}
+
+fn raycast_primitives<'t, 'i>(
+    get: &dyn Fn(&str) -> Option<&'t Val<'i>>,
+    base: MaterialDesc,
+    desc: &mut SceneDesc,
+) -> R<()>
+where
+    'i: 't,
+{
+    use crate::raycast::{PlaneDesc, SphereDesc};
+    if let Some(v) = get("sphere") {
+        for item in array_of_tables("sphere", v, fixshade::raycast::MAX_SPHERES, "spheres")? {
+            let s = Section::from_value("[[sphere]]", "sphere", item, SPHERE_KEYS)?;
+            let radius = s.number("radius", 1.0)?;
+            if radius <= 0.0 {
+                return fail(
+                    s.span_of("radius"),
+                    format!("`radius` must be greater than 0, found {radius}"),
+                );
+            }
+            desc.raycast.spheres.push(SphereDesc {
+                centre: s.vector("centre", [0.0; 3])?,
+                radius,
+                material: primitive_material(&s, "[sphere.material]", base)?,
+            });
+        }
+    }
+    if let Some(v) = get("plane") {
+        for item in array_of_tables("plane", v, fixshade::raycast::MAX_PLANES, "planes")? {
+            let s = Section::from_value("[[plane]]", "plane", item, PLANE_KEYS)?;
+            let normal = s.vector("normal", [0.0, 1.0, 0.0])?;
+            if norm2(normal) == 0.0 {
+                return fail(s.span_of("normal"), "`normal` must not be the zero vector");
+            }
+            desc.raycast.planes.push(PlaneDesc {
+                point: s.vector("point", [0.0; 3])?,
+                normal,
+                material: primitive_material(&s, "[plane.material]", base)?,
+            });
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1156,7 +1261,12 @@ mod tests {
             let s = builtin_scene(name).unwrap();
             assert_eq!((s.width, s.height), (320, 240));
             assert_eq!(s.format, FormatName::Rgb565Le);
-            assert_eq!(s.shading, ShadingName::Gouraud);
+            let shading = if *name == "spheres-plane" {
+                ShadingName::Raycast
+            } else {
+                ShadingName::Gouraud
+            };
+            assert_eq!(s.shading, shading);
             assert_eq!(s.span, SpanName::Gradient);
             assert!(s.cull_back && s.depth_test);
         }
@@ -1465,5 +1575,32 @@ mod tests {
         for text in inputs {
             let _ = parse_scene(&text, "fuzz.toml").map_err(|e| e.to_string());
         }
+    }
+
+    #[test]
+    fn raycast_keys_and_primitives() {
+        let d = builtin_scene("spheres-plane").unwrap();
+        assert_eq!(d.shading, ShadingName::Raycast);
+        assert_eq!((d.raycast.segment, d.raycast.threshold), (8, 2.3));
+        assert_eq!((d.raycast.spheres.len(), d.raycast.planes.len()), (2, 1));
+        assert_eq!(d.raycast.spheres[1].radius, 0.45);
+        assert_eq!(d.raycast.spheres[0].material.shininess, 60.0);
+        // The plane inherits [material] except what [plane.material] overrides.
+        assert_eq!(d.raycast.planes[0].material.shininess, 1.0);
+
+        let base = "[camera]\neye = [0, 0, 5]\n[[object]]\nmesh = \"sphere\"\n";
+        let e = err(&format!("[render]\nsegment = 0\n{base}"));
+        assert_eq!(e.line, Some(2), "{e}");
+        let e = err(&format!("[render]\nthreshold = -1\n{base}"));
+        assert!(e.message.contains("`threshold`"), "{e}");
+        let e = err(&format!("{base}[[sphere]]\nradius = 0\n"));
+        assert!(e.message.contains("`radius`"), "{e}");
+        let e = err(&format!("{base}[[plane]]\nnormal = [0, 0, 0]\n"));
+        assert!(e.message.contains("`normal`"), "{e}");
+        let e = err(&format!("{base}[[plane]]\nradius = 1\n"));
+        assert!(e.message.contains("radius"), "{e}");
+        let many = "[[plane]]\n".repeat(5);
+        let e = err(&format!("{base}{many}"));
+        assert!(e.message.contains("at most 4"), "{e}");
     }
 }

@@ -216,7 +216,9 @@ impl Target<'_> {
                     ShadingName::Flat => flat,
                     // The quadratic surface's reference is the Phong render
                     // (`phong`); without it, its vertex colours are interpolated.
-                    ShadingName::Gouraud | ShadingName::Quadratic => mix(|v| v.colour),
+                    ShadingName::Gouraud | ShadingName::Quadratic | ShadingName::Raycast => {
+                        mix(|v| v.colour)
+                    }
                     // Phong shadings are lit per pixel above (`opts.phong` is forced).
                     ShadingName::Phong | ShadingName::PhongEvenOdd => mix(|v| v.colour),
                 }

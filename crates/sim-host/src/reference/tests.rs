@@ -54,6 +54,7 @@ fn ortho_scene(objects: Vec<ObjectDesc>) -> SceneDesc {
         depth_test: true,
         perspective_correct: false,
         specular: crate::desc::SpecularName::Exact,
+        raycast: Default::default(),
     }
 }
 
@@ -171,6 +172,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
         depth_test: true,
         perspective_correct: false,
         specular: crate::desc::SpecularName::Exact,
+        raycast: Default::default(),
     }
 }
 
