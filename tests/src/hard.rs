@@ -260,7 +260,8 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
         draw_triangle::<Rec, _, S, DepthTest, Flat>(&mut g, flat);
         intact(&g, &what)?;
         if colours_valid(t) {
-            let want = pc.map(|v| v >> 16);
+            // Rounded to nearest, like every interpolated value.
+            let want = pc.map(|v| (v + (1 << 15)) >> 16);
             if let Some(p) = g.pixels().into_iter().flatten().find(|p| *p != want) {
                 return Err(format!("{what} flat: pixel {p:?}, provoking colour {want:?}"));
             }
