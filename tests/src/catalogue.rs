@@ -146,8 +146,22 @@ pub fn scene_cases() -> Vec<SceneCase> {
 /// The fuzz target `raster`'s input for triangles `tris` (see
 /// `fuzz/fuzz_targets/raster.rs` for the layout): span method `method`, `flags`,
 /// frame `w` × `h` (1..=24), strip `(y0, rows)`.
-pub fn raster_seed(method: u8, flags: u8, w: u32, h: u32, strip: (u32, u32), tris: &[[ScreenVertex; 3]]) -> Vec<u8> {
-    let mut out = vec![method, flags, (w - 1) as u8, (h - 1) as u8, strip.0 as u8, (strip.1 - 1) as u8];
+pub fn raster_seed(
+    method: u8,
+    flags: u8,
+    w: u32,
+    h: u32,
+    strip: (u32, u32),
+    tris: &[[ScreenVertex; 3]],
+) -> Vec<u8> {
+    let mut out = vec![
+        method,
+        flags,
+        (w - 1) as u8,
+        (h - 1) as u8,
+        strip.0 as u8,
+        (strip.1 - 1) as u8,
+    ];
     for t in tris.iter().take(4) {
         for v in t {
             for word in [v.x, v.y, v.z as i32, v.c[0], v.c[1], v.c[2]] {

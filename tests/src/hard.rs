@@ -10,7 +10,7 @@ use fixshade::shade::{Flat, Gouraud};
 use fixshade_sim::desc::{Named, SpanName};
 use fixshade_sim::with_span_method;
 
-use crate::{area2, Count, Guarded, Rec, Window, Winding, P2};
+use crate::{area2, Count, Guarded, Rec, Winding, Window, P2};
 
 /// What a case asks for besides "no panic, no write outside".
 #[derive(Clone, Copy, Debug, Default)]
@@ -98,7 +98,8 @@ pub fn snaps(s: SpanName) -> bool {
 }
 
 fn in_guard(v: &[ScreenVertex; 3]) -> bool {
-    v.iter().all(|p| p.x.unsigned_abs() < GUARD as u32 && p.y.unsigned_abs() < GUARD as u32)
+    v.iter()
+        .all(|p| p.x.unsigned_abs() < GUARD as u32 && p.y.unsigned_abs() < GUARD as u32)
 }
 
 fn p2(v: &ScreenVertex) -> P2 {
@@ -121,13 +122,24 @@ pub fn exact(v: &[ScreenVertex; 3], x: i32, y: i32, get: impl Fn(&ScreenVertex) 
     let p = (16 * x + 8, 16 * y + 8);
     let q = |i: usize| p2(&v[i]);
     let area = area2(q(0), q(1), q(2));
-    let l = [area2(q(1), q(2), p), area2(q(2), q(0), p), area2(q(0), q(1), p)];
+    let l = [
+        area2(q(1), q(2), p),
+        area2(q(2), q(0), p),
+        area2(q(0), q(1), p),
+    ];
     let num: i128 = (0..3).map(|i| l[i] as i128 * get(&v[i]) as i128).sum();
     num as f64 / (area as f64 * 65536.0)
 }
 
-fn guarded<P: fixshade::target::PixelFormat>(c: &Case, depth: bool, clear: P::Raw, sentinel: P::Raw) -> Guarded<P> {
-    Guarded::<P>::new(c.frame.0, c.frame.1, c.strip.0, c.strip.1, depth, clear, sentinel)
+fn guarded<P: fixshade::target::PixelFormat>(
+    c: &Case,
+    depth: bool,
+    clear: P::Raw,
+    sentinel: P::Raw,
+) -> Guarded<P> {
+    Guarded::<P>::new(
+        c.frame.0, c.frame.1, c.strip.0, c.strip.1, depth, clear, sentinel,
+    )
 }
 
 fn rec(c: &Case, depth: bool) -> Guarded<Rec> {
@@ -138,7 +150,10 @@ fn intact<P: fixshade::target::PixelFormat>(g: &Guarded<P>, what: &str) -> Resul
     if g.intact() {
         Ok(())
     } else {
-        Err(format!("{what}: write outside the target ({} stray rows)", g.bad_rows))
+        Err(format!(
+            "{what}: write outside the target ({} stray rows)",
+            g.bad_rows
+        ))
     }
 }
 
@@ -147,7 +162,13 @@ fn pixel_xy(win: &Window, i: usize) -> (i32, i32) {
 }
 
 /// Compares recorded colours of one triangle `t` with the exact values.
-fn colour_errors(win: &Window, got: &[Option<[i32; 3]>], t: &[ScreenVertex; 3], what: &str, f: &mut Figures) -> Result<(), String> {
+fn colour_errors(
+    win: &Window,
+    got: &[Option<[i32; 3]>],
+    t: &[ScreenVertex; 3],
+    what: &str,
+    f: &mut Figures,
+) -> Result<(), String> {
     for (i, p) in got.iter().enumerate() {
         let Some(p) = p else { continue };
         let (x, y) = pixel_xy(win, i);
@@ -157,19 +178,31 @@ fn colour_errors(win: &Window, got: &[Option<[i32; 3]>], t: &[ScreenVertex; 3], 
             f.colour_checks += 1;
             f.max_colour_err = f.max_colour_err.max(err);
             if !(err < 1.0 && (0..=255).contains(&p[ch])) {
-                return Err(format!("{what}: pixel ({x},{y}) channel {ch}: got {}, exact {e:.4}", p[ch]));
+                return Err(format!(
+                    "{what}: pixel ({x},{y}) channel {ch}: got {}, exact {e:.4}",
+                    p[ch]
+                ));
             }
         }
     }
     Ok(())
 }
 
-fn depth_errors(win: &Window, col: &[Option<[i32; 3]>], dep: &[u16], t: &[ScreenVertex; 3], what: &str, f: &mut Figures) -> Result<(), String> {
+fn depth_errors(
+    win: &Window,
+    col: &[Option<[i32; 3]>],
+    dep: &[u16],
+    t: &[ScreenVertex; 3],
+    what: &str,
+    f: &mut Figures,
+) -> Result<(), String> {
     for (i, (c, d)) in col.iter().zip(dep).enumerate() {
         let (x, y) = pixel_xy(win, i);
         if c.is_none() {
             if *d != 0xFFFF {
-                return Err(format!("{what}: pixel ({x},{y}): depth written without colour"));
+                return Err(format!(
+                    "{what}: pixel ({x},{y}): depth written without colour"
+                ));
             }
             continue;
         }
@@ -184,7 +217,8 @@ fn depth_errors(win: &Window, col: &[Option<[i32; 3]>], dep: &[u16], t: &[Screen
 
 /// Gouraud colours in range of a triangle given in-range vertex colours.
 fn colours_valid(t: &[ScreenVertex; 3]) -> bool {
-    t.iter().all(|v| v.c.iter().all(|c| (0..=255 << 16).contains(c)))
+    t.iter()
+        .all(|v| v.c.iter().all(|c| (0..=255 << 16).contains(c)))
 }
 
 /// Mid-edge colours of the quadratic surface that make it the Gouraud plane.
@@ -238,7 +272,9 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
             let col = g.pixels();
             let covered = col.iter().filter(|p| p.is_some()).count() as u64;
             if covered != sum {
-                return Err(format!("{what}: gouraud covered {covered} pixels, flat {sum}"));
+                return Err(format!(
+                    "{what}: gouraud covered {covered} pixels, flat {sum}"
+                ));
             }
             if h.colour && !snaps(span) && colours_valid(t) {
                 colour_errors(&win, &col, t, &format!("{what} gouraud"), &mut f)?;
@@ -263,7 +299,9 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
             // Rounded to nearest, like every interpolated value.
             let want = pc.map(|v| (v + (1 << 15)) >> 16);
             if let Some(p) = g.pixels().into_iter().flatten().find(|p| *p != want) {
-                return Err(format!("{what} flat: pixel {p:?}, provoking colour {want:?}"));
+                return Err(format!(
+                    "{what} flat: pixel {p:?}, provoking colour {want:?}"
+                ));
             }
         }
     }
@@ -296,12 +334,17 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
         for (i, (a, b)) in all.pixels().iter().zip(first.pixels()).enumerate() {
             if b.is_some() && *a != b {
                 let (x, y) = pixel_xy(&win, i);
-                return Err(format!("[{name}] first-wins: pixel ({x},{y}) is {a:?}, first triangle drew {b:?}"));
+                return Err(format!(
+                    "[{name}] first-wins: pixel ({x},{y}) is {a:?}, first triangle drew {b:?}"
+                ));
             }
         }
     }
     if h.strip {
-        let full_case = Case { strip: (0, c.frame.1), ..c.clone() };
+        let full_case = Case {
+            strip: (0, c.frame.1),
+            ..c.clone()
+        };
         let mut full = rec(&full_case, true);
         let mut part = rec(c, true);
         for t in &c.tris {
@@ -311,7 +354,9 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
         let w = c.frame.0 as usize;
         let rows = &full.pixels()[c.strip.0 as usize * w..(c.strip.0 + c.strip.1) as usize * w];
         if rows != part.pixels().as_slice() {
-            return Err(format!("[{name}] strip: rows differ from the whole frame's"));
+            return Err(format!(
+                "[{name}] strip: rows differ from the whole frame's"
+            ));
         }
     }
     Ok(f)

@@ -344,7 +344,15 @@ impl<P: PixelFormat> Guarded<P> {
     /// interior starts as `clear`, the guard as `sentinel` (pick one the rasterizer
     /// never writes, e.g. `None` for [`Rec`]). Panics on sizes the core's own
     /// targets reject (the tests build only valid ones).
-    pub fn new(width: u32, frame_height: u32, y0: u32, h: u32, depth: bool, clear: P::Raw, sentinel: P::Raw) -> Self {
+    pub fn new(
+        width: u32,
+        frame_height: u32,
+        y0: u32,
+        h: u32,
+        depth: bool,
+        clear: P::Raw,
+        sentinel: P::Raw,
+    ) -> Self {
         assert!(width >= 1 && h >= 1 && y0 + h <= frame_height);
         let (w, hh) = (width as usize, h as usize);
         let stride = w + 2 * GUARD_PX;
@@ -376,12 +384,19 @@ impl<P: PixelFormat> Guarded<P> {
         let s = self.stride();
         let inside = |i: usize| {
             let (r, c) = (i / s, i % s);
-            (GUARD_PX..GUARD_PX + self.h).contains(&r) && (GUARD_PX..GUARD_PX + self.width).contains(&c)
+            (GUARD_PX..GUARD_PX + self.h).contains(&r)
+                && (GUARD_PX..GUARD_PX + self.width).contains(&c)
         };
         self.bad_rows == 0
-            && self.buf.iter().enumerate().all(|(i, p)| inside(i) || *p == self.sentinel)
+            && self
+                .buf
+                .iter()
+                .enumerate()
+                .all(|(i, p)| inside(i) || *p == self.sentinel)
             && self.depth.as_ref().is_none_or(|d| {
-                d.iter().enumerate().all(|(i, z)| inside(i) || *z == DEPTH_SENTINEL)
+                d.iter()
+                    .enumerate()
+                    .all(|(i, z)| inside(i) || *z == DEPTH_SENTINEL)
             })
     }
 

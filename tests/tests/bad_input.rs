@@ -45,7 +45,10 @@ const N: [Q2_14; 3] = [Q2_14::from_bits(0), Q2_14::from_bits(0), Q2_14::ONE];
 fn meshes_with_bad_indices_or_coordinates_are_errors() {
     let pos = [p(0, 0, 0), p(1, 0, 0), p(0, 1, 0)];
     let nrm = [N; 3];
-    assert_eq!(Mesh::new(&pos, &nrm[..2], &[[0, 1, 2]]).err(), Some(MeshError::NormalCount));
+    assert_eq!(
+        Mesh::new(&pos, &nrm[..2], &[[0, 1, 2]]).err(),
+        Some(MeshError::NormalCount)
+    );
     assert_eq!(
         Mesh::new(&pos, &nrm, &[[0, 1, 2], [0, 1, 3]]).err(),
         Some(MeshError::IndexOutOfRange(1))
@@ -55,12 +58,21 @@ fn meshes_with_bad_indices_or_coordinates_are_errors() {
         Some(MeshError::IndexOutOfRange(0))
     );
     let far = [p(0, 0, 0), p(MAX_COORD, 0, 0), [Q16_16::MIN; 3]];
-    assert_eq!(Mesh::new(&far, &nrm, &[]).err(), Some(MeshError::CoordinateOutOfRange(1)));
+    assert_eq!(
+        Mesh::new(&far, &nrm, &[]).err(),
+        Some(MeshError::CoordinateOutOfRange(1))
+    );
     let far = [p(0, 0, 0), p(0, 0, 0), [Q16_16::MIN; 3]];
-    assert_eq!(Mesh::new(&far, &nrm, &[]).err(), Some(MeshError::CoordinateOutOfRange(2)));
+    assert_eq!(
+        Mesh::new(&far, &nrm, &[]).err(),
+        Some(MeshError::CoordinateOutOfRange(2))
+    );
     let many = vec![p(0, 0, 0); 65536];
     let many_n = vec![N; 65536];
-    assert_eq!(Mesh::new(&many, &many_n, &[]).err(), Some(MeshError::TooManyVertices));
+    assert_eq!(
+        Mesh::new(&many, &many_n, &[]).err(),
+        Some(MeshError::TooManyVertices)
+    );
 }
 
 fn camera() -> Camera {
@@ -79,7 +91,8 @@ fn camera() -> Camera {
 fn scene_with(mesh: Mesh<'_>) -> Scene<'_> {
     let mut s = Scene::new(camera());
     let white = [Q16_16::ONE; 3];
-    s.add_light(Light::directional(p(0, 0, 1), white, white)).unwrap();
+    s.add_light(Light::directional(p(0, 0, 1), white, white))
+        .unwrap();
     s.add_object(Object {
         mesh,
         placement: Placement::default(),
@@ -95,7 +108,10 @@ fn scene_with(mesh: Mesh<'_>) -> Scene<'_> {
 fn empty_meshes_draw_nothing() {
     let pos = [p(0, 0, 0)];
     let nrm = [N];
-    for mesh in [Mesh::new(&[], &[], &[]).unwrap(), Mesh::new(&pos, &nrm, &[]).unwrap()] {
+    for mesh in [
+        Mesh::new(&[], &[], &[]).unwrap(),
+        Mesh::new(&pos, &nrm, &[]).unwrap(),
+    ] {
         let scene = scene_with(mesh);
         let mut cache = vec![XfVertex::default(); scene.vertex_count()];
         let mut color = [0x1234u16; 8 * 6];
@@ -115,7 +131,10 @@ fn empty_meshes_draw_nothing() {
     let frame2 = Frame::<Rgb565Le>::prepare(&s, 8, 6, &mut []).unwrap();
     assert_eq!(frame2.draw::<Gradient, _>(&mut fb).unwrap().pixels, 0);
     // The depth test without a depth buffer is an error, not a panic.
-    assert_eq!(frame.draw::<Gradient, _>(&mut fb).err(), Some(RenderError::NoDepthBuffer));
+    assert_eq!(
+        frame.draw::<Gradient, _>(&mut fb).err(),
+        Some(RenderError::NoDepthBuffer)
+    );
 }
 
 /// Buffers smaller than the declared frame, sizes of 0 or above 4096, strips
@@ -158,7 +177,10 @@ fn targets_smaller_than_declared_are_errors() {
     );
     let mut s = Strip::<Rgb565Le>::new(&mut c, None, 8, 6, 0, 2).unwrap();
     assert_eq!(s.set_y0(5).err(), Some(TargetError::StripOutsideFrame));
-    assert_eq!(s.set_y0(u32::MAX).err(), Some(TargetError::StripOutsideFrame));
+    assert_eq!(
+        s.set_y0(u32::MAX).err(),
+        Some(TargetError::StripOutsideFrame)
+    );
     assert_eq!(s.set_y0(4), Ok(()));
     // The largest frame fits.
     assert!(Strip::<Rgb565Le>::new(&mut c, Some(&mut d), 4096, 4096, 4094, 2).is_ok());
@@ -187,14 +209,23 @@ fn frames_that_do_not_fit_are_errors() {
     let mut c = [0u16; 9 * 6];
     let mut d = [0u16; 9 * 6];
     let mut fb = Framebuffer::<Rgb565Le>::new(&mut c, Some(&mut d), 9, 6).unwrap();
-    assert_eq!(frame.draw::<Gradient, _>(&mut fb).err(), Some(RenderError::TargetSizeMismatch));
+    assert_eq!(
+        frame.draw::<Gradient, _>(&mut fb).err(),
+        Some(RenderError::TargetSizeMismatch)
+    );
 
     let mut bad = scene_with(Mesh::new(&pos, &nrm, &tri).unwrap());
     bad.camera.target = bad.camera.eye;
-    assert_eq!(Frame::<Rgb565Le>::prepare(&bad, 8, 6, &mut cache).err(), Some(RenderError::BadView));
+    assert_eq!(
+        Frame::<Rgb565Le>::prepare(&bad, 8, 6, &mut cache).err(),
+        Some(RenderError::BadView)
+    );
     let mut bad = scene_with(Mesh::new(&pos, &nrm, &tri).unwrap());
     bad.camera.up = p(0, 0, 5);
-    assert_eq!(Frame::<Rgb565Le>::prepare(&bad, 8, 6, &mut cache).err(), Some(RenderError::BadView));
+    assert_eq!(
+        Frame::<Rgb565Le>::prepare(&bad, 8, 6, &mut cache).err(),
+        Some(RenderError::BadView)
+    );
     for (near, far) in [(0, 10), (-1, 10), (5, 5), (5, 2)] {
         let mut bad = scene_with(Mesh::new(&pos, &nrm, &tri).unwrap());
         bad.camera.projection = Projection::Perspective {
@@ -231,24 +262,51 @@ fn frames_that_do_not_fit_are_errors() {
 fn screen_coordinates_anywhere_in_i32_are_culled() {
     let mut c = [0u16; 8 * 6];
     let mut fb = Framebuffer::<Rgb565Le>::new(&mut c, None, 8, 6).unwrap();
-    let ok = ScreenVertex { x: 40, y: 40, z: 0, c: [0; 3] };
+    let ok = ScreenVertex {
+        x: 40,
+        y: 40,
+        z: 0,
+        c: [0; 3],
+    };
     for bad in [i32::MIN, i32::MIN + 1, -65536, 65536, i32::MAX] {
         for k in 0..3 {
-            let mut v = [ok, ScreenVertex { x: 100, ..ok }, ScreenVertex { y: 90, ..ok }];
+            let mut v = [
+                ok,
+                ScreenVertex { x: 100, ..ok },
+                ScreenVertex { y: 90, ..ok },
+            ];
             v[k].x = bad;
-            assert_eq!(draw_triangle::<Rgb565Le, _, Gradient, NoDepth, Gouraud>(&mut fb, v), 0);
+            assert_eq!(
+                draw_triangle::<Rgb565Le, _, Gradient, NoDepth, Gouraud>(&mut fb, v),
+                0
+            );
             v[k].x = ok.x;
             v[k].y = bad;
-            assert_eq!(draw_triangle::<Rgb565Le, _, Gradient, NoDepth, Gouraud>(&mut fb, v), 0);
+            assert_eq!(
+                draw_triangle::<Rgb565Le, _, Gradient, NoDepth, Gouraud>(&mut fb, v),
+                0
+            );
         }
     }
     // Colours far outside the channel range wrap in the packed pixel (a contract
     // violation: the result is unspecified) but never panic; any depth is fine.
-    let tri = [ok, ScreenVertex { x: 100, ..ok }, ScreenVertex { y: 90, ..ok }];
+    let tri = [
+        ok,
+        ScreenVertex { x: 100, ..ok },
+        ScreenVertex { y: 90, ..ok },
+    ];
     for (cv, z) in [(i32::MIN, 0), (i32::MAX, u32::MAX), (-1, 1 << 31)] {
-        let v = tri.map(|t| ScreenVertex { c: [cv, cv.wrapping_neg() / 2, cv / 3], z, ..t });
+        let v = tri.map(|t| ScreenVertex {
+            c: [cv, cv.wrapping_neg() / 2, cv / 3],
+            z,
+            ..t
+        });
         let mut d = [0u16; 8 * 6];
         let mut fb = Framebuffer::<Rgb565Le>::new(&mut c, Some(&mut d), 8, 6).unwrap();
-        assert!(draw_triangle::<Rgb565Le, _, Gradient, fixshade::raster::span::DepthTest, Gouraud>(&mut fb, v) > 0);
+        assert!(
+            draw_triangle::<Rgb565Le, _, Gradient, fixshade::raster::span::DepthTest, Gouraud>(
+                &mut fb, v
+            ) > 0
+        );
     }
 }

@@ -11,14 +11,22 @@ use fixshade_tests::hard::{check_all, Case, Figures, Holds};
 #[test]
 fn triangle_catalogue() {
     let cases = catalogue::triangle_cases();
-    assert!(cases.len() >= 30, "the catalogue lost cases: {}", cases.len());
+    assert!(
+        cases.len() >= 30,
+        "the catalogue lost cases: {}",
+        cases.len()
+    );
     let mut names = std::collections::HashSet::new();
     let mut total = Figures::default();
     let mut failures = Vec::new();
     for tc in &cases {
         assert!(names.insert(tc.name.clone()), "duplicate case {}", tc.name);
         for w in &tc.holds {
-            assert!(TRI_HOLDS.contains(&w.as_str()), "{}: unknown holds word `{w}`", tc.name);
+            assert!(
+                TRI_HOLDS.contains(&w.as_str()),
+                "{}: unknown holds word `{w}`",
+                tc.name
+            );
         }
         let c = Case {
             frame: (tc.frame[0], tc.frame[1]),
@@ -38,7 +46,12 @@ fn triangle_catalogue() {
         }
     }
     println!("{} cases: {total:?}", cases.len());
-    assert!(failures.is_empty(), "{} failing cases:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} failing cases:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 /// Renders a scene case with every span method and shading mode, whole frame and in
@@ -51,7 +64,11 @@ fn scene_catalogue() {
     use fixshade_sim::pipeline::{load, read_scene, reference, render};
 
     let cases = catalogue::scene_cases();
-    assert!(cases.len() >= 12, "the catalogue lost cases: {}", cases.len());
+    assert!(
+        cases.len() >= 12,
+        "the catalogue lost cases: {}",
+        cases.len()
+    );
     let mut failures = Vec::new();
     for sc in &cases {
         for w in &sc.holds {
@@ -86,7 +103,11 @@ fn scene_catalogue() {
                         (Ok(a), Ok(b)) => (a, b),
                         (a, b) => {
                             if sc.holds("renders") {
-                                return Err(format!("{what}: render failed: {:?} / {:?}", a.err(), b.err()));
+                                return Err(format!(
+                                    "{what}: render failed: {:?} / {:?}",
+                                    a.err(),
+                                    b.err()
+                                ));
                             }
                             continue;
                         }
@@ -109,7 +130,10 @@ fn scene_catalogue() {
                         let r = reference(&ls, false);
                         let c = compare(&r, &whole.image)?;
                         if sc.holds("coverage") && c.coverage_mismatch != 0 {
-                            return Err(format!("{what}: coverage differs from the reference at {} pixels", c.coverage_mismatch));
+                            return Err(format!(
+                                "{what}: coverage differs from the reference at {} pixels",
+                                c.coverage_mismatch
+                            ));
                         }
                         if sc.holds("reference") {
                             let max = sc.nmse_max.expect("nmse_max");
@@ -127,7 +151,12 @@ fn scene_catalogue() {
             Err(e) => failures.push(format!("{}: {e}", sc.name)),
         }
     }
-    assert!(failures.is_empty(), "{} failing cases:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} failing cases:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 /// Specular exponents n = 1 and n = 1000 with N·H at and within one LSB (Q2.30,
@@ -140,14 +169,27 @@ fn specular_extremes() {
     use fixshade::fixed::Q16_16;
     use fixshade::specular::*;
     const ONE: i32 = 1 << 30;
-    let cs = [0, 1, 2, 1 << 16, ONE / 2, ONE - (1 << 16), ONE - 2, ONE - 1, ONE];
+    let cs = [
+        0,
+        1,
+        2,
+        1 << 16,
+        ONE / 2,
+        ONE - (1 << 16),
+        ONE - 2,
+        ONE - 1,
+        ONE,
+    ];
     fn run<S: Specular>(name: &str, n: i32, cs: &[i32], top: i64, one_at_one: bool) -> Vec<i32> {
         let p = S::prepare(Q16_16::from_int(n));
         let v: Vec<i32> = cs.iter().map(|c| S::eval(&p, *c)).collect();
         for (c, r) in cs.iter().zip(&v) {
             assert!((0..top).contains(&(*r as i64)), "{name} n={n} c={c}: {r}");
         }
-        assert!(v.windows(2).all(|w| w[0] <= w[1]), "{name} n={n}: not monotone {v:?}");
+        assert!(
+            v.windows(2).all(|w| w[0] <= w[1]),
+            "{name} n={n}: not monotone {v:?}"
+        );
         if one_at_one {
             assert_eq!(*v.last().unwrap(), ONE, "{name} n={n} at c = 1");
         }
@@ -158,7 +200,10 @@ fn specular_extremes() {
         for (c, got) in cs.iter().zip(&e) {
             let want = (*c as f64 / ONE as f64).powi(n) * ONE as f64;
             let tol = want * n as f64 * 2f64.powi(-29) + 2.0;
-            assert!((*got as f64 - want).abs() <= tol, "exact n={n} c={c}: {got}, want {want}");
+            assert!(
+                (*got as f64 - want).abs() <= tol,
+                "exact n={n} c={c}: {got}, want {want}"
+            );
         }
         run::<Schlick>("schlick", n, &cs, ONE as i64 + 1, true);
         run::<SchlickModified>("schlick-mod", n, &cs, ONE as i64 + 1, true);
@@ -181,7 +226,10 @@ fn fuzz_seeds_are_current() {
         let strip = (y0.min(h - 1), rows.min(h - y0.min(h - 1)));
         let tris = tc.triangles();
         // Raw coordinates, every shading and format, methods spread over the cases.
-        for (j, flags) in [0b0000_0111u8, 0b0100_1000, 0b1000_0100, 0b1100_1101].iter().enumerate() {
+        for (j, flags) in [0b0000_0111u8, 0b0100_1000, 0b1000_0100, 0b1100_1101]
+            .iter()
+            .enumerate()
+        {
             let method = ((i * 4 + j) % 15) as u8;
             seeds.push((
                 format!("raster/{}-{j}", tc.name),
@@ -195,7 +243,10 @@ fn fuzz_seeds_are_current() {
     }
     for name in fixshade_sim::scene_file::BUILTIN_SCENES {
         let text = fixshade_sim::scene_file::builtin_scene_text(name).unwrap();
-        seeds.push((format!("scene_file/builtin-{name}"), text.as_bytes().to_vec()));
+        seeds.push((
+            format!("scene_file/builtin-{name}"),
+            text.as_bytes().to_vec(),
+        ));
     }
     for e in std::fs::read_dir(catalogue::path("meshes")).unwrap() {
         let p = e.unwrap().path();
@@ -206,8 +257,19 @@ fn fuzz_seeds_are_current() {
         &[],
         &["help"],
         &["list"],
-        &["render", "sphere", "-o", "out.png", "--span", "kway4", "--strip", "7"],
-        &["render", "x.toml", "--output", "o.png", "--shading", "quadratic", "--format", "gray8"],
+        &[
+            "render", "sphere", "-o", "out.png", "--span", "kway4", "--strip", "7",
+        ],
+        &[
+            "render",
+            "x.toml",
+            "--output",
+            "o.png",
+            "--shading",
+            "quadratic",
+            "--format",
+            "gray8",
+        ],
         &["reference", "teapot", "-o", "r.png", "--phong"],
         &["compare", "a.png", "b.png", "--json"],
         &["report", "--quick", "--out", "dir"],

@@ -28,7 +28,12 @@ fn frame() -> impl Strategy<Value = ((u32, u32), (u32, u32))> {
 
 /// A colour channel in Q.16: often 0 or 255, else anything in between.
 fn channel() -> impl Strategy<Value = i32> {
-    prop_oneof![Just(0), Just(255 << 16), 0..=255 << 16, (0..=255).prop_map(|c| c << 16)]
+    prop_oneof![
+        Just(0),
+        Just(255 << 16),
+        0..=255 << 16,
+        (0..=255).prop_map(|c| c << 16)
+    ]
 }
 
 fn depth() -> impl Strategy<Value = u32> {
@@ -48,7 +53,10 @@ fn positions(w: u32, h: u32) -> impl Strategy<Value = [(i32, i32); 3]> {
         // Huge: anywhere in the guard band.
         [anywhere.clone(), anywhere.clone(), anywhere.clone()],
         // Tiny: within a few subpixels of a point near the frame.
-        (near.clone(), [(-3..=3, -3..=3), (-3..=3, -3..=3), (-3..=3, -3..=3)])
+        (
+            near.clone(),
+            [(-3..=3, -3..=3), (-3..=3, -3..=3), (-3..=3, -3..=3)]
+        )
             .prop_map(|((cx, cy), d)| d.map(|(dx, dy)| (cx + dx, cy + dy))),
         // Near-degenerate: the third vertex within 2 subpixels of a point of the
         // segment between two far-apart vertices.
@@ -59,14 +67,27 @@ fn positions(w: u32, h: u32) -> impl Strategy<Value = [(i32, i32); 3]> {
             }
         ),
         // Axis-aligned: a horizontal and a vertical edge.
-        (near.clone(), anywhere.clone()).prop_map(|((x0, y0), (x1, y1))| [(x0, y0), (x1, y0), (x0, y1)]),
+        (near.clone(), anywhere.clone()).prop_map(|((x0, y0), (x1, y1))| [
+            (x0, y0),
+            (x1, y0),
+            (x0, y1)
+        ]),
         // On the pixel grid: corners and centres.
-        [(-8..2 * w as i32 + 8, -8..2 * h as i32 + 8), (-8..2 * w as i32 + 8, -8..2 * h as i32 + 8), (-8..2 * w as i32 + 8, -8..2 * h as i32 + 8)]
-            .prop_map(|p| p.map(|(x, y)| (8 * x, 8 * y))),
+        [
+            (-8..2 * w as i32 + 8, -8..2 * h as i32 + 8),
+            (-8..2 * w as i32 + 8, -8..2 * h as i32 + 8),
+            (-8..2 * w as i32 + 8, -8..2 * h as i32 + 8)
+        ]
+        .prop_map(|p| p.map(|(x, y)| (8 * x, 8 * y))),
         // Near the frame, any subpixel.
         [near.clone(), near.clone(), near],
         // Beyond the guard band or anywhere in i32: culled.
-        ((any::<i32>(), any::<i32>()), (-G..=G, -G..=G), (-G..=G, -G..=G)).prop_map(|(a, b, c)| [a, b, c]),
+        (
+            (any::<i32>(), any::<i32>()),
+            (-G..=G, -G..=G),
+            (-G..=G, -G..=G)
+        )
+            .prop_map(|(a, b, c)| [a, b, c]),
     ]
 }
 

@@ -119,8 +119,7 @@ where
     Sh: Shading,
 {
     // `unsigned_abs`: `abs` of i32::MIN overflows.
-    if v
-        .iter()
+    if v.iter()
         .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
     {
         return 0;

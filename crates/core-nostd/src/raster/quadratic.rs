@@ -511,8 +511,7 @@ pub fn draw_quadratic<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     fill: Fill,
 ) -> u32 {
     // `unsigned_abs`: `abs` of i32::MIN overflows.
-    if v
-        .iter()
+    if v.iter()
         .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
     {
         return 0;
