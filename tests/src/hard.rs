@@ -172,15 +172,14 @@ fn colour_errors(
     for (i, p) in got.iter().enumerate() {
         let Some(p) = p else { continue };
         let (x, y) = pixel_xy(win, i);
-        for ch in 0..3 {
+        for (ch, got) in p.iter().enumerate() {
             let e = exact(t, x, y, |v| v.c[ch] as i64);
-            let err = (p[ch] as f64 - e).abs();
+            let err = (*got as f64 - e).abs();
             f.colour_checks += 1;
             f.max_colour_err = f.max_colour_err.max(err);
-            if !(err < 1.0 && (0..=255).contains(&p[ch])) {
+            if !(err < 1.0 && (0..=255).contains(got)) {
                 return Err(format!(
-                    "{what}: pixel ({x},{y}) channel {ch}: got {}, exact {e:.4}",
-                    p[ch]
+                    "{what}: pixel ({x},{y}) channel {ch}: got {got}, exact {e:.4}"
                 ));
             }
         }
