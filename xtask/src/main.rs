@@ -47,11 +47,38 @@ fn test() -> Result<(), String> {
             cargo(&args)?;
         }
     }
+    fuzz_build()?;
     cargo(&["test", "--workspace"])
 }
 
+/// Builds the fuzz targets (fuzz/, its own workspace) without running them: the dev
+/// profile and no sanitizer keep the build short. cargo-fuzz wants a nightly
+/// compiler; `RUSTC_BOOTSTRAP=1` lets the stable one take its flags. Installs
+/// cargo-fuzz first if it is missing (`--locked`, about a minute).
+fn fuzz_build() -> Result<(), String> {
+    let have = Command::new("cargo")
+        .args(["fuzz", "--version"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have {
+        cargo(&["install", "cargo-fuzz", "--locked"])?;
+    }
+    eprintln!("xtask: RUSTC_BOOTSTRAP=1 cargo fuzz build --dev --sanitizer none (in fuzz/)");
+    let status = Command::new("cargo")
+        .args(["fuzz", "build", "--dev", "--sanitizer", "none"])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../fuzz"))
+        .env("RUSTC_BOOTSTRAP", "1")
+        .status()
+        .map_err(|e| format!("cannot run cargo fuzz: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`cargo fuzz build` failed ({status})"))
+    }
+}
+
 const USAGE: &str =
-    "usage: cargo xtask test    (every test, plus no_std builds for thumbv6m and thumbv7em)";
+    "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, fuzz builds)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
