@@ -296,3 +296,26 @@ fn fuzz_seeds_are_current() {
         "fuzz seeds missing or stale (regenerate with FIXSHADE_WRITE_SEEDS=1): {stale:?}"
     );
 }
+
+/// Every OBJ file of the catalogue loads with a finite unit normal per vertex (the
+/// `obj` fuzz target found NaN normals for huge finite coordinates), and the core
+/// either takes the mesh or rejects it with an error.
+#[test]
+fn obj_catalogue_normals_are_finite_units() {
+    use fixshade_sim::convert::{quantize_mesh, FixedMesh};
+    let mut n = 0;
+    for e in std::fs::read_dir(catalogue::path("meshes")).unwrap() {
+        let p = e.unwrap().path();
+        let m = fixshade_sim::mesh::load_obj(&p).unwrap_or_else(|e| panic!("{e}"));
+        for v in &m.normals {
+            let len = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+            assert!((len - 1.0).abs() < 1e-9, "{}: normal {v:?}", p.display());
+        }
+        let fixed = FixedMesh::from_mesh(&quantize_mesh(&m));
+        if p.ends_with("huge-coordinates.obj") {
+            assert!(fixed.is_err());
+        }
+        n += 1;
+    }
+    assert!(n >= 4);
+}
