@@ -174,8 +174,11 @@ fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
     // The squared length overflowed or underflowed (huge or tiny finite
     // components): divide by the largest component first. Infinite or NaN
     // components have no direction.
+    if !a.iter().all(|c| c.is_finite()) {
+        return None;
+    }
     let m = a.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-    if !(m > 0.0 && m.is_finite()) {
+    if m == 0.0 {
         return None;
     }
     let b = a.map(|c| c / m);
