@@ -13,8 +13,11 @@
 //! is a front face (negative signed area with y down), `−1` when it is a back face,
 //! and `0` elsewhere.
 
+pub mod catalogue;
+pub mod hard;
+
 use fixshade::raster::ScreenVertex;
-use fixshade::target::PixelFormat;
+use fixshade::target::{PixelFormat, Target};
 use fixshade_sim::desc::{MeshData, SceneDesc};
 use fixshade_sim::reference::{mat_mul, mat_vec, model_matrix, projection_matrix, view_matrix};
 
@@ -309,6 +312,159 @@ pub fn project(desc: &SceneDesc, meshes: &[MeshData]) -> Projected {
         }
     }
     Projected { tris, skipped }
+}
+
+/// Sentinel pixels on every side of a [`Guarded`] target's buffer.
+pub const GUARD_PX: usize = 3;
+
+/// A target with a guard region: the rows `[y0, y0 + h)` of a `width` ×
+/// `frame_height` frame, stored inside a buffer with [`GUARD_PX`] sentinel pixels on
+/// every side. A request for a row outside `rows()` is counted in `bad_rows` and
+/// served from the top guard row (instead of being clamped, as the core's targets
+/// do), so a stray row shows up as a changed sentinel too; a column outside the row
+/// cannot be reached without a slice-index panic. [`Guarded::intact`] checks that
+/// every sentinel (colour and depth) is unchanged.
+pub struct Guarded<P: PixelFormat> {
+    buf: Vec<P::Raw>,
+    depth: Option<Vec<u16>>,
+    sentinel: P::Raw,
+    width: usize,
+    frame_height: u32,
+    y0: i32,
+    h: usize,
+    /// Row requests outside `rows()`.
+    pub bad_rows: usize,
+}
+
+/// Depth sentinel of a [`Guarded`] target (the interior starts at the far value).
+pub const DEPTH_SENTINEL: u16 = 0x5A5A;
+
+impl<P: PixelFormat> Guarded<P> {
+    /// A target for rows `[y0, y0 + h)` of a `width` × `frame_height` frame; the
+    /// interior starts as `clear`, the guard as `sentinel` (pick one the rasterizer
+    /// never writes, e.g. `None` for [`Rec`]). Panics on sizes the core's own
+    /// targets reject (the tests build only valid ones).
+    pub fn new(
+        width: u32,
+        frame_height: u32,
+        y0: u32,
+        h: u32,
+        depth: bool,
+        clear: P::Raw,
+        sentinel: P::Raw,
+    ) -> Self {
+        assert!(width >= 1 && h >= 1 && y0 + h <= frame_height);
+        let (w, hh) = (width as usize, h as usize);
+        let stride = w + 2 * GUARD_PX;
+        let mut buf = vec![sentinel; stride * (hh + 2 * GUARD_PX)];
+        let mut dbuf = vec![DEPTH_SENTINEL; stride * (hh + 2 * GUARD_PX)];
+        for r in 0..hh {
+            let at = (r + GUARD_PX) * stride + GUARD_PX;
+            buf[at..at + w].fill(clear);
+            dbuf[at..at + w].fill(0xFFFF);
+        }
+        Guarded {
+            buf,
+            depth: depth.then_some(dbuf),
+            sentinel,
+            width: w,
+            frame_height,
+            y0: y0 as i32,
+            h: hh,
+            bad_rows: 0,
+        }
+    }
+
+    fn stride(&self) -> usize {
+        self.width + 2 * GUARD_PX
+    }
+
+    /// True if no sentinel pixel changed and no row outside `rows()` was asked for.
+    pub fn intact(&self) -> bool {
+        let s = self.stride();
+        let inside = |i: usize| {
+            let (r, c) = (i / s, i % s);
+            (GUARD_PX..GUARD_PX + self.h).contains(&r)
+                && (GUARD_PX..GUARD_PX + self.width).contains(&c)
+        };
+        self.bad_rows == 0
+            && self
+                .buf
+                .iter()
+                .enumerate()
+                .all(|(i, p)| inside(i) || *p == self.sentinel)
+            && self.depth.as_ref().is_none_or(|d| {
+                d.iter()
+                    .enumerate()
+                    .all(|(i, z)| inside(i) || *z == DEPTH_SENTINEL)
+            })
+    }
+
+    /// The interior colour pixels, row-major.
+    pub fn pixels(&self) -> Vec<P::Raw> {
+        let s = self.stride();
+        (0..self.h)
+            .flat_map(|r| {
+                let at = (r + GUARD_PX) * s + GUARD_PX;
+                self.buf[at..at + self.width].iter().copied()
+            })
+            .collect()
+    }
+
+    /// The interior depth values, row-major (empty without depth).
+    pub fn depths(&self) -> Vec<u16> {
+        let s = self.stride();
+        match &self.depth {
+            None => Vec::new(),
+            Some(d) => (0..self.h)
+                .flat_map(|r| {
+                    let at = (r + GUARD_PX) * s + GUARD_PX;
+                    d[at..at + self.width].iter().copied()
+                })
+                .collect(),
+        }
+    }
+
+    /// The window of the frame this target holds.
+    pub fn window(&self) -> Window {
+        Window {
+            width: self.width,
+            y0: self.y0,
+            h: self.h,
+        }
+    }
+}
+
+impl<P: PixelFormat> Target<P> for Guarded<P> {
+    fn width(&self) -> u32 {
+        self.width as u32
+    }
+    fn frame_height(&self) -> u32 {
+        self.frame_height
+    }
+    fn rows(&self) -> std::ops::Range<i32> {
+        self.y0..self.y0 + self.h as i32
+    }
+    fn has_depth(&self) -> bool {
+        self.depth.is_some()
+    }
+    fn row(&mut self, y: i32) -> (&mut [P::Raw], &mut [u16]) {
+        let s = self.stride();
+        let r = if self.rows().contains(&y) {
+            (y - self.y0) as usize + GUARD_PX
+        } else {
+            self.bad_rows += 1;
+            0
+        };
+        let at = r * s + GUARD_PX;
+        let w = self.width;
+        let color = &mut self.buf[at..at + w];
+        let depth = match self.depth.as_deref_mut() {
+            Some(d) => &mut d[at..at + w],
+            None => &mut [],
+        };
+        (color, depth)
+    }
 }
 
 /// Path of a file under the `tests/` package directory.

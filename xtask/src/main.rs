@@ -62,10 +62,37 @@ fn test() -> Result<(), String> {
     // The firmware on QEMU, frames compared with the host (before the tests, so the
     // run closes with the test summary).
     qemu::qemu()?;
+    fuzz_build()?;
     cargo(&["test", "--workspace"])
 }
 
-const USAGE: &str = "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, docs, qemu)
+/// Builds the fuzz targets (fuzz/, its own workspace) without running them: the dev
+/// profile and no sanitizer keep the build short. cargo-fuzz wants a nightly
+/// compiler; `RUSTC_BOOTSTRAP=1` lets the stable one take its flags. Installs
+/// cargo-fuzz first if it is missing (`--locked`, about a minute).
+fn fuzz_build() -> Result<(), String> {
+    let have = Command::new("cargo")
+        .args(["fuzz", "--version"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have {
+        cargo(&["install", "cargo-fuzz", "--locked"])?;
+    }
+    eprintln!("xtask: RUSTC_BOOTSTRAP=1 cargo fuzz build --dev --sanitizer none (in fuzz/)");
+    let status = Command::new("cargo")
+        .args(["fuzz", "build", "--dev", "--sanitizer", "none"])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../fuzz"))
+        .env("RUSTC_BOOTSTRAP", "1")
+        .status()
+        .map_err(|e| format!("cannot run cargo fuzz: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("`cargo fuzz build` failed ({status})"))
+    }
+}
+
+const USAGE: &str = "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, docs, qemu, fuzz builds)
        cargo xtask qemu    (firmware on QEMU Cortex-M0 and M4: frames compared with the host, instruction table)";
 
 fn main() -> ExitCode {

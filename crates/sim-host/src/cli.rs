@@ -170,75 +170,76 @@ fn write(img: &Image, path: &std::path::Path) -> Result<(), CliError> {
     img.write_png(path).map_err(fail)
 }
 
-/// Runs the CLI with `args` (without the program name); returns what to print.
-pub fn run(args: &[String]) -> Result<String, CliError> {
+/// A checked command line: what [`run`] will do, parsed without opening any file.
+pub struct Command(Cmd);
+
+enum Cmd {
+    Demo,
+    Help,
+    List,
+    Render(Opts),
+    Reference(Opts),
+    Compare(Opts),
+    Report(crate::report::ReportOptions),
+    /// `bake` and `raycast-table` parse their own arguments.
+    Bake(Vec<String>),
+    RaycastTable(Vec<String>),
+}
+
+/// Parses `args` (without the program name): the command, its options and their
+/// values, and the number of positional arguments. Files are not touched.
+pub fn parse(args: &[String]) -> Result<Command, CliError> {
     let Some(cmd) = args.first() else {
-        return crate::demo::run_demo().map_err(fail);
+        return Ok(Command(Cmd::Demo));
     };
     let rest = &args[1..];
     if rest.iter().any(|a| a == "--help" || a == "-h") {
-        return Ok(USAGE.to_string());
+        return Ok(Command(Cmd::Help));
     }
-    match cmd.as_str() {
-        "help" | "--help" | "-h" => Ok(USAGE.to_string()),
-        "list" => Ok(list()),
-        "bake" => crate::bake::run(rest),
-        "render" => {
-            let o = parse_opts(
-                rest,
-                &[
-                    "-o",
-                    "--output",
-                    "--span",
-                    "--shading",
-                    "--format",
-                    "--specular",
-                    "--strip",
-                    "--segment",
-                    "--threshold",
-                ],
-            )?;
-            let ls = load_with(&o)?;
-            let out = &output_or_default(&o);
-            let r = pipeline::render(&ls, o.strip).map_err(fail)?;
-            write(&r.image, out)?;
-            Ok(format!(
-                "{}: {} triangles ({} drawn, {} culled, {} clipped), {} covered pixels -> {}",
-                ls.name,
-                r.stats.triangles,
-                r.stats.drawn,
-                r.stats.culled,
-                r.stats.clipped,
-                r.image.covered_count(),
-                out.display()
-            ))
+    let scene_opts = |allowed: &[&str], needs_output: bool| -> Result<Opts, CliError> {
+        let o = parse_opts(rest, allowed)?;
+        if needs_output {
+            output(&o)?;
         }
-        "reference" => {
-            let o = parse_opts(
-                rest,
-                &["-o", "--output", "--phong", "--format", "--shading"],
-            )?;
-            let out = output(&o)?;
-            let ls = load_with(&o)?;
-            let img = pipeline::reference(&ls, o.phong);
-            write(&img, out)?;
-            Ok(format!(
-                "{}: reference{} with {} covered pixels -> {}",
-                ls.name,
-                if o.phong { " (Phong)" } else { "" },
-                img.covered_count(),
-                out.display()
-            ))
+        if o.positional.is_empty() {
+            return Err(usage(
+                "missing SCENE (a scene file or one of: sphere, teapot, robot, bench-sphere)",
+            ));
         }
+        if o.positional.len() > 1 {
+            return Err(usage(format!("unexpected argument `{}`", o.positional[1])));
+        }
+        Ok(o)
+    };
+    Ok(Command(match cmd.as_str() {
+        "help" | "--help" | "-h" => Cmd::Help,
+        "list" => Cmd::List,
+        "bake" => Cmd::Bake(rest.to_vec()),
+        "raycast-table" => Cmd::RaycastTable(rest.to_vec()),
+        "render" => Cmd::Render(scene_opts(
+            &[
+                "-o",
+                "--output",
+                "--span",
+                "--shading",
+                "--format",
+                "--specular",
+                "--strip",
+                "--segment",
+                "--threshold",
+            ],
+            false,
+        )?),
+        "reference" => Cmd::Reference(scene_opts(
+            &["-o", "--output", "--phong", "--format", "--shading"],
+            true,
+        )?),
         "compare" => {
             let o = parse_opts(rest, &["--json"])?;
-            let [a, b] = o.positional.as_slice() else {
+            if o.positional.len() != 2 {
                 return Err(usage("compare takes two PNG files: REF.png TEST.png"));
-            };
-            let ra = Image::read_png(a.as_ref()).map_err(fail)?;
-            let rb = Image::read_png(b.as_ref()).map_err(fail)?;
-            let c = compare(&ra, &rb).map_err(fail)?;
-            Ok(if o.json { c.to_json() } else { c.to_text() })
+            }
+            Cmd::Compare(o)
         }
         "report" => {
             let mut opts = crate::report::ReportOptions::full();
@@ -263,6 +264,63 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
             if let Some(dir) = out {
                 opts.out_dir = dir;
             }
+            Cmd::Report(opts)
+        }
+        other => {
+            return Err(usage(format!(
+                "unknown command `{other}`; try `fixshade help`"
+            )))
+        }
+    }))
+}
+
+/// Runs the CLI with `args` (without the program name); returns what to print.
+pub fn run(args: &[String]) -> Result<String, CliError> {
+    match parse(args)?.0 {
+        Cmd::Demo => crate::demo::run_demo().map_err(fail),
+        Cmd::Help => Ok(USAGE.to_string()),
+        Cmd::List => Ok(list()),
+        Cmd::Bake(rest) => crate::bake::run(&rest),
+        Cmd::RaycastTable(rest) => crate::raycast::table_command(&rest),
+        Cmd::Render(o) => {
+            let ls = load_with(&o)?;
+            let out = &output_or_default(&o);
+            let r = pipeline::render(&ls, o.strip).map_err(fail)?;
+            write(&r.image, out)?;
+            Ok(format!(
+                "{}: {} triangles ({} drawn, {} culled, {} clipped), {} covered pixels -> {}",
+                ls.name,
+                r.stats.triangles,
+                r.stats.drawn,
+                r.stats.culled,
+                r.stats.clipped,
+                r.image.covered_count(),
+                out.display()
+            ))
+        }
+        Cmd::Reference(o) => {
+            let out = output(&o)?;
+            let ls = load_with(&o)?;
+            let img = pipeline::reference(&ls, o.phong);
+            write(&img, out)?;
+            Ok(format!(
+                "{}: reference{} with {} covered pixels -> {}",
+                ls.name,
+                if o.phong { " (Phong)" } else { "" },
+                img.covered_count(),
+                out.display()
+            ))
+        }
+        Cmd::Compare(o) => {
+            let [a, b] = o.positional.as_slice() else {
+                return Err(usage("compare takes two PNG files: REF.png TEST.png"));
+            };
+            let ra = Image::read_png(a.as_ref()).map_err(fail)?;
+            let rb = Image::read_png(b.as_ref()).map_err(fail)?;
+            let c = compare(&ra, &rb).map_err(fail)?;
+            Ok(if o.json { c.to_json() } else { c.to_text() })
+        }
+        Cmd::Report(opts) => {
             let r = crate::report::run_report(&opts).map_err(fail)?;
             let files: Vec<String> = r.files.iter().map(|p| p.display().to_string()).collect();
             Ok(format!(
@@ -272,10 +330,6 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                 files.join(", ")
             ))
         }
-        "raycast-table" => crate::raycast::table_command(rest),
-        other => Err(usage(format!(
-            "unknown command `{other}`; try `fixshade help`"
-        ))),
     }
 }
 

@@ -124,7 +124,10 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    if v.iter().any(|p| p.x.abs() >= GUARD || p.y.abs() >= GUARD) {
+    // `unsigned_abs`: `abs` of i32::MIN overflows.
+    if v.iter()
+        .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
+    {
         return 0;
     }
     let Some(s) = setup::setup(v) else {

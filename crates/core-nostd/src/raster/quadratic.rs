@@ -510,7 +510,10 @@ pub fn draw_quadratic<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     mid: [[i32; 3]; 3],
     fill: Fill,
 ) -> u32 {
-    if v.iter().any(|p| p.x.abs() >= GUARD || p.y.abs() >= GUARD) {
+    // `unsigned_abs`: `abs` of i32::MIN overflows.
+    if v.iter()
+        .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
+    {
         return 0;
     }
     let (Some(s), Some(q)) = (setup(v), Quad::fit(v, mid)) else {

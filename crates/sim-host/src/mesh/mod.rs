@@ -168,7 +168,22 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// `a / |a|`, or `None` if `a` is zero.
 fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
     let len = dot(a, a).sqrt();
-    (len > 0.0).then(|| scale(a, 1.0 / len))
+    if len > 0.0 && len.is_finite() {
+        return Some(scale(a, 1.0 / len));
+    }
+    // The squared length overflowed or underflowed (huge or tiny finite
+    // components): divide by the largest component first. Infinite or NaN
+    // components have no direction.
+    if !a.iter().all(|c| c.is_finite()) {
+        return None;
+    }
+    let m = a.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if m == 0.0 {
+        return None;
+    }
+    let b = a.map(|c| c / m);
+    let len = dot(b, b).sqrt();
+    Some(b.map(|c| c / len))
 }
 
 /// Unnormalised normal `(b - a) x (c - a)` of a triangle: twice its area in length.
