@@ -247,6 +247,18 @@ fn ray_caster_agrees_with_the_phong_reference_on_the_sphere() {
         c.nmse, c.max_channel_error, c.coverage_mismatch
     );
     assert!(c.nmse <= 1e-4, "NMSE {}", c.nmse);
+    // And against the rasterizer's own Phong render of the same sphere (screen-affine
+    // interpolation of normals and positions, fixed point throughout).
+    let mut lp = load_arg("sphere").unwrap();
+    lp.desc.format = FormatName::Rgb888;
+    lp.desc.shading = ShadingName::Phong;
+    let raster = pipeline::render(&lp, None).unwrap();
+    let cr = compare(&raster.image, &r.image).unwrap();
+    println!(
+        "sphere ray cast vs rasterized Phong: NMSE {:.3e}, max channel error {}",
+        cr.nmse, cr.max_channel_error
+    );
+    assert!(cr.nmse <= 1e-4, "NMSE {}", cr.nmse);
     // With shadows on, only the terminator (where N·L is small) may darken.
     ls.desc.raycast.shadows = true;
     let rs = ray_image(&ls, Sampling::EVERY_PIXEL).unwrap();
