@@ -22,6 +22,10 @@ USAGE:
                                   accuracy against time for every span method and
                                   shading mode: a table, and DIR/accuracy-vs-time.{md,csv,png}
                                   (DIR: docs/, or out/report-quick/ with --quick)
+    fixshade specular [--quick] [--out DIR]
+                                  the specular models against c^n, in renders and in
+                                  time: DIR/specular.{md,csv}, DIR/specular-reflectance.png
+                                  (DIR: docs/, or out/specular-quick/ with --quick)
     fixshade list                 built-in scenes, span methods, shading modes,
                                   specular models, formats
     fixshade help                 this text
@@ -238,6 +242,8 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                 files.join(", ")
             ))
         }
+        "specular" => crate::specular_table::run_cli(rest)
+            .map_err(|(code, message)| CliError { code, message }),
         other => Err(usage(format!(
             "unknown command `{other}`; try `fixshade help`"
         ))),
