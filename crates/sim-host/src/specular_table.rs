@@ -850,6 +850,8 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
         s,
         "- **ns/eval**: host nanoseconds per `eval` call, c uniform in (0, 1] in a fixed pseudo-random order, \
          inputs behind `black_box`; all models and n timed in one run, interleaved, median of {} repeats of {} calls. \
+         The calls are independent, so this is throughput: the CPU overlaps successive calls, divisions included; \
+         models with a zero region get cheaper as n grows because more of the inputs fall in it. \
          **vs exact**: ratio to `exact` at the same n. **MCU**: instruction counts come with the boards.",
         opts.cost_repeats, opts.cost_evals
     );
@@ -935,7 +937,10 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
          At normal incidence θ_h = θ_o/2 and `R(0) = 2π ∫ f(cos(θ_o/2)) cos θ_o sin θ_o dθ_o` (composite Simpson, \
          {s4} intervals), computed for every integer n in 1..=1000. The factor (n + 6)/24.55 is the seed's fit that \
          should bring R to ≤ 1: without it, R(0) ≈ 8π/(n + 1) for large n (the lobe is ≈ (1 − θ_o²/θ_0²)² with \
-         θ_0² = 24/(n + 1)), so with it R(0) → 8π/24.55 ≈ {lim:.4} as n grows.\n",
+         θ_0² = 24/(n + 1)), so with it R(0) → 8π/24.55 ≈ {lim:.4} as n grows. The seed's (2.24) prints \
+         `cos θ_0/2 − 1`; at L = N the half vector is at θ_o/2, so this computes with cos(θ_o/2). Its (2.25) \
+         integrates up to 5.8/√n, past the lobe's zero at ≈ 4.9/√n where the unclamped square rises again; \
+         here the form is zero beyond its zero point, as in the core.\n",
         s = opts.reflect_steps,
         s2 = 2 * opts.reflect_steps,
         s4 = 8 * opts.reflect_steps,
