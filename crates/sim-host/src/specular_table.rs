@@ -1061,7 +1061,7 @@ mod plot {
         labels.push((
             x0 - 80,
             8,
-            "reflectance R of (n+6)/24.55 (s(c-1)+1)^2".into(),
+            "reflectance R of (n+6)/24.55 (s(c-1)+1) squared".into(),
             black,
         ));
         labels.push((x0 - 80, 30, "line: R at normal incidence".into(), blue));
