@@ -30,6 +30,10 @@ USAGE:
     fixshade raycast-table [--out FILE] [--runs N]
                                   pixel-segment ray casting: evaluations, NMSE and
                                   time for L in 1..16 and several K (FILE: docs/raycast.md)
+    fixshade specular [--quick] [--out DIR]
+                                  the specular models against c^n, in renders and in
+                                  time: DIR/specular.{md,csv}, DIR/specular-reflectance.png
+                                  (DIR: docs/, or out/specular-quick/ with --quick)
     fixshade list                 built-in scenes, span methods, shading modes,
                                   specular models, formats
     fixshade help                 this text
@@ -184,6 +188,7 @@ enum Cmd {
     /// `bake` and `raycast-table` parse their own arguments.
     Bake(Vec<String>),
     RaycastTable(Vec<String>),
+    Specular(Vec<String>),
 }
 
 /// Parses `args` (without the program name): the command, its options and their
@@ -216,6 +221,7 @@ pub fn parse(args: &[String]) -> Result<Command, CliError> {
         "list" => Cmd::List,
         "bake" => Cmd::Bake(rest.to_vec()),
         "raycast-table" => Cmd::RaycastTable(rest.to_vec()),
+        "specular" => Cmd::Specular(rest.to_vec()),
         "render" => Cmd::Render(scene_opts(
             &[
                 "-o",
@@ -282,6 +288,8 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
         Cmd::List => Ok(list()),
         Cmd::Bake(rest) => crate::bake::run(&rest),
         Cmd::RaycastTable(rest) => crate::raycast::table_command(&rest),
+        Cmd::Specular(rest) => crate::specular_table::run_cli(&rest)
+            .map_err(|(code, message)| CliError { code, message }),
         Cmd::Render(o) => {
             let ls = load_with(&o)?;
             let out = &output_or_default(&o);

@@ -12,3 +12,4 @@ pub mod raycast;
 pub mod reference;
 pub mod report;
 pub mod scene_file;
+pub mod specular_table;

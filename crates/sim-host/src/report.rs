@@ -1072,7 +1072,7 @@ mod plot {
 
 /// A 5x7 pixel font for the chart's labels (lower case, digits, a few capitals and
 /// signs), so the chart needs no font library.
-mod font {
+pub(crate) mod font {
     use plotters::style::RGBColor;
 
     const GLYPHS: &[(char, [&str; 7])] = &[

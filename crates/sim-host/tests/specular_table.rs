@@ -1,0 +1,93 @@
+//! `fixshade specular --quick` into a temporary directory: the page has a row per
+//! model and n, the claims section, the reflectance rows, and the CSV and PNG exist.
+
+use fixshade_sim::desc::{Named, SpecularName};
+use fixshade_sim::image::Image;
+use fixshade_sim::specular_table::{CSV_HEADER, NOT_MEASURED, NS};
+
+#[test]
+fn quick_table_writes_a_row_per_model_and_n_and_the_claims() {
+    let dir = std::env::temp_dir().join(format!("fixshade-specular-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let args: Vec<String> = ["specular", "--quick", "--out", dir.to_str().unwrap()]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let printed = fixshade_sim::cli::run(&args).expect("specular --quick runs");
+    assert!(printed.contains("wrote"), "{printed}");
+
+    let md = std::fs::read_to_string(dir.join("specular.md")).expect("specular.md");
+    let csv = std::fs::read_to_string(dir.join("specular.csv")).expect("specular.csv");
+    let mut csv_lines = csv.lines();
+    assert_eq!(csv_lines.next(), Some(CSV_HEADER));
+    assert_eq!(csv_lines.count(), SpecularName::ALL.len() * NS.len());
+    for (_, name) in SpecularName::ALL {
+        for n in NS {
+            let prefix = format!("| {name} | {n} |");
+            let rows: Vec<&str> = md.lines().filter(|l| l.starts_with(&prefix)).collect();
+            assert_eq!(rows.len(), 1, "row {prefix} in\n{md}");
+            assert!(
+                rows[0].ends_with(&format!("| {NOT_MEASURED} |")),
+                "{}",
+                rows[0]
+            );
+            // 11 columns: every cell filled.
+            assert_eq!(rows[0].matches('|').count(), 12, "{}", rows[0]);
+            assert!(
+                !rows[0].contains("NaN") && !rows[0].contains("inf"),
+                "{}",
+                rows[0]
+            );
+            assert!(
+                csv.lines().any(|l| l.starts_with(&format!("{name},{n},"))),
+                "csv row {name},{n}"
+            );
+        }
+    }
+    let claims = md
+        .split("## The seed's claims, measured")
+        .nth(1)
+        .expect("claims section");
+    let claims = claims.split("\n## ").next().unwrap();
+    for key in [
+        "Schlick:",
+        "modified Schlick:",
+        "quadratic: relative error",
+        "quadratic: NMSE",
+        "cosine-quadratic: NMSE",
+        "1.7× faster",
+        "20 % faster frames",
+        "energy-conserving form",
+    ] {
+        let line = claims
+            .lines()
+            .find(|l| l.contains(key))
+            .unwrap_or_else(|| panic!("claim `{key}` in\n{claims}"));
+        assert!(
+            line.contains("**holds**") || line.contains("**does not hold**"),
+            "{line}"
+        );
+    }
+    assert!(
+        md.contains("| n | R(0) | max over θ_i |"),
+        "reflectance rows"
+    );
+    let png = Image::read_png(&dir.join("specular-reflectance.png")).expect("png");
+    assert!(png.width > 100 && png.height > 100);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_arguments_are_usage_errors() {
+    let args: Vec<String> = ["specular", "--fast"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let e = fixshade_sim::cli::run(&args).unwrap_err();
+    assert_eq!(e.code, 2);
+    let args: Vec<String> = ["specular", "--out"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    assert_eq!(fixshade_sim::cli::run(&args).unwrap_err().code, 2);
+}
