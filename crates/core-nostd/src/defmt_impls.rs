@@ -136,6 +136,8 @@ impl Format for ShadingMode {
             ShadingMode::Flat => write!(f, "Flat"),
             ShadingMode::Gouraud => write!(f, "Gouraud"),
             ShadingMode::Quadratic => write!(f, "Quadratic"),
+            ShadingMode::Phong => write!(f, "Phong"),
+            ShadingMode::PhongEvenOdd => write!(f, "PhongEvenOdd"),
         }
     }
 }
