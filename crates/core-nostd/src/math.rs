@@ -563,7 +563,7 @@ const RSQRT_SEED: [u32; 192] = {
 };
 
 /// `⌊2⁶¹/√s⌋` to within 4 units, for `s` in [2⁶⁰, 2⁶²): a table seed
-/// ([`RSQRT_SEED`], 8 bits) and two Newton steps `r ← r·(3 − s·r²)/2`, each in
+/// (`RSQRT_SEED`, 8 bits) and two Newton steps `r ← r·(3 − s·r²)/2`, each in
 /// 64-bit products (no division, no square root).
 ///
 /// Bounds: `r` ∈ (2³⁰, 2³¹]; `r²/2³²` < 2³⁰; times `s/2³⁰` < 2³² gives < 2⁶²;

@@ -120,7 +120,7 @@ const fn limit_of(k_q8: u32, m: u32) -> u32 {
 }
 
 /// Largest supported segment length (and block side): keeps the recursion depth
-/// at most 12 and the interpolation products within `u64` (see [`lerp`]).
+/// at most 12 and the interpolation products within `u64` (see `lerp`).
 pub const MAX_SEGMENT: u32 = 4096;
 
 /// `a + ⌊((b − a)·i·2 + n) / (2n)⌋`, 0 ≤ i ≤ n ≤ 4096: |b − a|·i·2 < 2³²·2¹³ fits
