@@ -197,3 +197,36 @@ fn opposite_vertex_normals_do_not_break_anything() {
     assert!(px.contains(&[255; 3]));
     assert!(px.contains(&[0; 3]));
 }
+
+#[test]
+fn vertices_anywhere_in_i32_are_culled_not_wrapped() {
+    use fixshade::raster::phong::{draw_phong, PhongVertex, PixelLight, Rows};
+    struct White;
+    impl PixelLight for White {
+        fn light(&self, _: [i32; 3], _: [i32; 3]) -> [i32; 3] {
+            [1 << 16; 3]
+        }
+    }
+    let mut px = [[0u8; 3]; 16];
+    let mut fb = Framebuffer::<Rgb888>::new(&mut px, None, 4, 4).unwrap();
+    for bad in [i32::MIN, i32::MAX, -(4096 << 4), 4096 << 4] {
+        let v = |x: i32, y: i32| PhongVertex {
+            x,
+            y,
+            z: 0,
+            n: [0, 0, 1 << 30],
+            p: [0; 3],
+        };
+        let t = [v(bad, 0), v(64, 0), v(0, 64)];
+        assert_eq!(
+            draw_phong::<Rgb888, _, NoDepth, Rows, _>(&mut fb, t, &White),
+            0
+        );
+        let t = [v(0, 0), v(64, bad), v(0, 64)];
+        assert_eq!(
+            draw_phong::<Rgb888, _, NoDepth, Rows, _>(&mut fb, t, &White),
+            0
+        );
+    }
+    assert!(px.iter().all(|p| *p == [0; 3]));
+}

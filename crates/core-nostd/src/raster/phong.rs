@@ -221,7 +221,10 @@ where
     F: PhongFill,
     L: PixelLight,
 {
-    if v.iter().any(|p| p.x.abs() >= GUARD || p.y.abs() >= GUARD) {
+    // `unsigned_abs`: a vertex at i32::MIN is outside too (no overflow).
+    if v.iter()
+        .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
+    {
         return 0;
     }
     if Z::TEST && !target.has_depth() {
