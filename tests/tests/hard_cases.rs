@@ -126,8 +126,7 @@ fn scene_catalogue() {
                     // eye, where the rasterizer clips them (a known limitation of
                     // `fixshade::raycast`): in this case every triangle crosses the
                     // eye plane, so its ray-cast image is empty.
-                    let caster_skips =
-                        *shading == ShadingName::Raycast && sc.name == "w-near-zero";
+                    let caster_skips = *shading == ShadingName::Raycast && sc.name == "w-near-zero";
                     if sc.holds("nonempty") && n == 0 && !snaps && !caster_skips {
                         return Err(format!("{what}: nothing covered"));
                     }
