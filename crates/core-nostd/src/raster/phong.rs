@@ -43,7 +43,7 @@
 //! ```
 
 use super::edge::first_row;
-use super::setup::{setup, Setup, ROUND_BIAS};
+use super::setup::{setup_with_det, Det, Setup, ROUND_BIAS};
 use super::span::{depth_of, DepthMode};
 use super::{row_range, scan, ScreenVertex, GUARD};
 use crate::math::{normalize_fast_q30, ONE_Q30};
@@ -122,21 +122,11 @@ fn attrs(v: &PhongVertex) -> [i64; PA] {
 impl Planes {
     /// The planes through the sorted vertices `v` (the order of [`Setup::v`]).
     ///
-    /// Bounds: |Δa| < 2³² and |dx|, |dy| < 2¹⁷, so each numerator `16·(Δa·dy − …)`
-    /// is below 2⁵⁴; `inv = ⌊2⁶²/|det|⌋` and the i128 product stay below 2¹¹⁷. The
-    /// quotient keeps 16 extra bits (`>> 46`). It may exceed 2⁶³ for a sliver; it is
+    /// The increments come from the triangle's [`Det`] (its one reciprocal) with 16
+    /// extra fraction bits (bounds at [`Det::gradient`]). It may exceed 2⁶³ for a sliver; it is
     /// then kept modulo 2⁶⁴ like the colour lattice, and the anchor is computed
     /// from the untruncated i128 quotients (|q| < 2⁷², `16·q` < 2⁷⁶).
-    fn new(v: &[PhongVertex; 3]) -> Option<Planes> {
-        let (dx1, dy1) = ((v[1].x - v[0].x) as i64, (v[1].y - v[0].y) as i64);
-        let (dx2, dy2) = ((v[2].x - v[0].x) as i64, (v[2].y - v[0].y) as i64);
-        let det = dx1 * dy2 - dx2 * dy1;
-        if det == 0 {
-            return None;
-        }
-        let inv = ((1u64 << 62) / det.unsigned_abs()) as i128;
-        let sign: i128 = if det < 0 { -1 } else { 1 };
-        let quot = |num: i64| -> i128 { (num as i128 * inv * sign + (1 << 45)) >> 46 };
+    fn new(v: &[PhongVertex; 3], det: &Det) -> Planes {
         let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
         let anchor = (first_row(v[0].x), first_row(v[0].y));
         let ox = (16 * anchor.0 + 8 - v[0].x) as i128;
@@ -150,10 +140,7 @@ impl Planes {
         for k in 0..PA {
             let (d1, d2) = (a1[k] - a0[k], a2[k] - a0[k]);
             let (gx, gy) = if d1 != 0 || d2 != 0 {
-                (
-                    quot(16 * (d1 * dy2 - d2 * dy1)),
-                    quot(16 * (d2 * dx1 - d1 * dx2)),
-                )
+                det.gradient(d1, d2, 16)
             } else {
                 (0, 0)
             };
@@ -161,7 +148,7 @@ impl Planes {
             p.gy[k] = gy as i64;
             p.a[k] = (((a0[k] as i128) << 16) + ((ox * gx + oy * gy + 8) >> 4)) as i64;
         }
-        Some(p)
+        p
     }
 
     /// Values at pixel `(x, y)` (wrapping: exact modulo 2⁶⁴).
@@ -236,14 +223,13 @@ where
         z: p.z,
         c: [0; 3],
     });
-    let Some(s) = setup(sv) else {
+    let Some((s, det)) = setup_with_det(sv) else {
         return 0;
     };
+    // The same order as `Setup::v` (equal keys only in zero-area triangles).
     let mut sorted = v;
     sorted.sort_unstable_by_key(|p| (p.y, p.x));
-    let Some(planes) = Planes::new(&sorted) else {
-        return 0;
-    };
+    let planes = Planes::new(&sorted, &det);
     let Some(rows) = row_range(&s, target.rows()) else {
         return 0;
     };

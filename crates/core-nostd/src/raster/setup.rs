@@ -67,6 +67,54 @@ fn attrs(v: &ScreenVertex) -> [i64; ATTRS] {
     [v.c[0] as i64, v.c[1] as i64, v.c[2] as i64, v.z as i64]
 }
 
+/// The shared core of a triangle's setup: the edge deltas from the top vertex and the
+/// one reciprocal of the determinant, signed. Used by [`setup`] and by the Phong
+/// planes, so a Phong triangle divides once, like any other.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Det {
+    dx1: i64,
+    dy1: i64,
+    dx2: i64,
+    dy2: i64,
+    /// `sign(det)·⌊2⁶²/|det|⌋`.
+    inv: i128,
+}
+
+impl Det {
+    /// `None` for a zero-area triangle. Vertices sorted, in the guard band.
+    fn new(p: [(i32, i32); 3]) -> Option<Det> {
+        let (dx1, dy1) = ((p[1].0 - p[0].0) as i64, (p[1].1 - p[0].1) as i64);
+        let (dx2, dy2) = ((p[2].0 - p[0].0) as i64, (p[2].1 - p[0].1) as i64);
+        let det = dx1 * dy2 - dx2 * dy1;
+        if det == 0 {
+            return None;
+        }
+        // |det| ≥ 1 and < 2^35: a u64 division (one hardware divide on 64-bit hosts).
+        let inv = ((1u64 << 62) / det.unsigned_abs()) as i128;
+        Some(Det {
+            dx1,
+            dy1,
+            dx2,
+            dy2,
+            inv: if det < 0 { -inv } else { inv },
+        })
+    }
+
+    /// The per-pixel increments `(Gx, Gy)` of an attribute that changes by `d1` and
+    /// `d2` from the top vertex to the others, with `extra` more fraction bits,
+    /// rounded. |d| ≤ 2³², so each numerator is below 2⁵⁴ and, with |inv| ≤ 2⁶², the
+    /// i128 product below 2¹¹⁶; the quotient is below 2^(55 + extra).
+    #[inline]
+    pub(crate) fn gradient(&self, d1: i64, d2: i64, extra: u32) -> (i128, i128) {
+        let sh = 62 - extra;
+        let quot = |num: i64| (num as i128 * self.inv + (1 << (sh - 1))) >> sh;
+        (
+            quot(16 * (d1 * self.dy2 - d2 * self.dy1)),
+            quot(16 * (d2 * self.dx1 - d1 * self.dx2)),
+        )
+    }
+}
+
 /// Sets up a triangle. Returns `None` for a zero-area triangle. Coordinates must lie
 /// in the guard band (|x|, |y| < 2¹⁶); the clip stage guarantees it.
 ///
@@ -74,28 +122,23 @@ fn attrs(v: &ScreenVertex) -> [i64; ATTRS] {
 /// by more than 2³¹ units per pixel, but the lattice arithmetic is exact modulo 2³²
 /// and the true value at every covered pixel fits, so the result there is still exact
 /// to the bound above.
-pub fn setup(mut v: [ScreenVertex; 3]) -> Option<Setup> {
+pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
+    setup_with_det(v).map(|(s, _)| s)
+}
+
+/// [`setup`], also returning its [`Det`] for further attribute planes.
+pub(crate) fn setup_with_det(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
     v.sort_unstable_by_key(|p| (p.y, p.x));
-    let (dx1, dy1) = ((v[1].x - v[0].x) as i64, (v[1].y - v[0].y) as i64);
-    let (dx2, dy2) = ((v[2].x - v[0].x) as i64, (v[2].y - v[0].y) as i64);
-    let det = dx1 * dy2 - dx2 * dy1;
-    if det == 0 {
-        return None;
-    }
-    // |det| ≥ 1 and < 2^35: a u64 division (one hardware divide on 64-bit hosts).
-    let inv = ((1u64 << 62) / det.unsigned_abs()) as i128;
-    let sign: i128 = if det < 0 { -1 } else { 1 };
-    // |num| < 2^54 and inv ≤ 2^62: the i128 product is below 2^116; the rounded
-    // quotient is below 2^55 and fits i64.
-    let quot = |num: i64| -> i64 { ((num as i128 * inv * sign + (1 << 61)) >> 62) as i64 };
+    let det = Det::new(v.map(|p| (p.x, p.y)))?;
     let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
     let mut gx = [0i64; ATTRS];
     let mut gy = [0i64; ATTRS];
     for k in 0..ATTRS {
         let (d1, d2) = (a1[k] - a0[k], a2[k] - a0[k]);
         if d1 != 0 || d2 != 0 {
-            gx[k] = quot(16 * (d1 * dy2 - d2 * dy1));
-            gy[k] = quot(16 * (d2 * dx1 - d1 * dx2));
+            // The quotient is below 2^55 and fits i64.
+            let (x, y) = det.gradient(d1, d2, 0);
+            (gx[k], gy[k]) = (x as i64, y as i64);
         }
     }
     let anchor = (first_row(v[0].x), first_row(v[0].y));
@@ -107,13 +150,14 @@ pub fn setup(mut v: [ScreenVertex; 3]) -> Option<Setup> {
         let off = (ox * gx[k] + oy * gy[k] + 8) >> 4;
         (a0[k] + off + ROUND_BIAS as i64) as i32 // modulo 2^32 by design
     });
-    Some(Setup {
+    let s = Setup {
         // y points down: the middle vertex is left of top→bottom when det < 0.
-        mid_left: det < 0,
+        mid_left: det.inv < 0,
         v,
         gx: gx.map(|g| g as i32), // modulo 2^32 by design
         gy: gy.map(|g| g as i32),
         anchor,
         a,
-    })
+    };
+    Some((s, det))
 }
