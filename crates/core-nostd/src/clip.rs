@@ -17,6 +17,14 @@ use crate::raster::GUARD;
 
 /// A polygon vertex: clip coordinates and `N` attributes interpolated with it: the
 /// colour (target units, Q.16) for Gouraud, or normal and eye position for Phong.
+///
+/// ```
+/// use fixshade::clip::ClipVertex;
+/// // Clip position (x, y, z, w) and an RGB colour in target units, Q.16.
+/// let v = ClipVertex { pos: [0, 0, 0, 1 << 20], c: [255 << 16, 0, 0] };
+/// assert_eq!(ClipVertex::<3>::default().pos, [0; 4]);
+/// assert_eq!(v.c[0] >> 16, 255);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct ClipVertex<const N: usize = 3> {
     /// Homogeneous coordinates x, y, z, w.
@@ -38,6 +46,16 @@ impl<const N: usize> Default for ClipVertex<N> {
 pub const MAX_POLY: usize = 9;
 
 /// A clipped convex polygon.
+///
+/// ```
+/// use fixshade::clip::{clip_triangle, ClipVertex, Polygon};
+/// use fixshade::geometry::Viewport;
+/// let w = 1 << 20;
+/// let v = |x, y| ClipVertex { pos: [x, y, 0, w], c: [0; 3] };
+/// let p: Polygon = clip_triangle([v(0, 0), v(w / 2, 0), v(0, w / 2)], &Viewport { width: 64, height: 64 });
+/// assert_eq!(p.len, 3); // inside: unchanged
+/// assert_eq!(p.v[1].pos, [w / 2, 0, 0, w]);
+/// ```
 #[derive(Copy, Clone, Debug)]
 pub struct Polygon<const N: usize = 3> {
     /// Vertices; the first `len` are valid.
@@ -66,6 +84,23 @@ fn distance(k: usize, p: &[i64; 4], vp: &Viewport) -> i128 {
 
 /// Clips triangle `t` to the view volume and guard band. The result has 0 or 3..=9
 /// vertices.
+///
+/// ```
+/// use fixshade::clip::{clip_triangle, ClipVertex};
+/// use fixshade::geometry::Viewport;
+/// let w = 1 << 20;
+/// let v = |z: i64| ClipVertex { pos: [0, 0, z, w], c: [0; 3] };
+/// let vp = Viewport { width: 64, height: 64 };
+/// // A triangle crossing the near plane z = -w loses its tip: two vertices were cut in.
+/// let mut t = [v(0), v(-2 * w), v(0)];
+/// t[1].pos[0] = w / 2;
+/// t[2].pos[1] = w / 2;
+/// let p = clip_triangle(t, &vp);
+/// assert_eq!(p.len, 4);
+/// assert!(p.v[..p.len].iter().all(|c| c.pos[2] >= -c.pos[3]));
+/// // Entirely behind the near plane: nothing is left.
+/// assert_eq!(clip_triangle([v(-2 * w); 3], &vp).len, 0);
+/// ```
 pub fn clip_triangle<const N: usize>(t: [ClipVertex<N>; 3], vp: &Viewport) -> Polygon<N> {
     // Common shift so every coordinate is below 2^40.
     let max = t
@@ -136,6 +171,13 @@ fn intersect<const N: usize>(
 /// True if the screen triangle faces the viewer: counter-clockwise as seen, which with
 /// y pointing down means a negative signed area. Zero-area triangles are not front
 /// faces (they are dropped anyway).
+///
+/// ```
+/// use fixshade::clip::is_front;
+/// // y points down: counter-clockwise as seen on screen is a front face.
+/// assert!(is_front((0, 0), (0, 16), (16, 0)));
+/// assert!(!is_front((0, 0), (16, 0), (0, 16)));
+/// ```
 #[inline]
 pub fn is_front(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> bool {
     signed_area(a, b, c) < 0
@@ -143,6 +185,12 @@ pub fn is_front(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> bool {
 
 /// Twice the signed area of a Q12.4 screen triangle (y down). |coordinates| < 2¹⁶,
 /// so each product is below 2³⁴: `i64`.
+///
+/// ```
+/// use fixshade::clip::signed_area;
+/// // Twice the area of a 1×1-pixel right triangle in Q12.4 (16 units per pixel).
+/// assert_eq!(signed_area((0, 0), (16, 0), (0, 16)), 256);
+/// ```
 #[inline]
 pub fn signed_area(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> i64 {
     (b.0 - a.0) as i64 * (c.1 - a.1) as i64 - (c.0 - a.0) as i64 * (b.1 - a.1) as i64

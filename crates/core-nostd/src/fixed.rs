@@ -20,6 +20,17 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 /// (range about ±32768, resolution 2⁻¹⁶ ≈ 1.5e-5).
 ///
 /// Used for model coordinates, colours (0..=1), shininess and attenuation factors.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// let x = Q16_16::from_ratio(-5, 4); // -1.25
+/// assert_eq!(x.floor_int(), -2);
+/// assert_eq!(x.abs(), Q16_16::from_ratio(5, 4));
+/// assert_eq!(x.clamp(Q16_16::ZERO, Q16_16::ONE), Q16_16::ZERO);
+/// // Operators saturate instead of wrapping.
+/// assert_eq!(Q16_16::MAX + Q16_16::ONE, Q16_16::MAX);
+/// assert_eq!(x.to_string(), "-1.25000");
+/// ```
 #[allow(non_camel_case_types)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[repr(transparent)]
@@ -183,6 +194,12 @@ impl core::fmt::Display for Q16_16 {
 
 /// Signed fixed point with 2 integer and 14 fraction bits in an `i16`: unit normal
 /// components (range [-2, 2), resolution 2⁻¹⁴ ≈ 6.1e-5).
+///
+/// ```
+/// use fixshade::fixed::Q2_14;
+/// let half = Q2_14::from_bits(1 << 13);
+/// assert_eq!(half.to_bits() * 2, Q2_14::ONE.to_bits());
+/// ```
 #[allow(non_camel_case_types)]
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
 #[repr(transparent)]
@@ -270,6 +287,11 @@ pub(crate) const fn sat_i64_to_i32(v: i64) -> i32 {
 }
 
 /// Error converting a value into a fixed-point format.
+///
+/// ```
+/// use fixshade::fixed::NumError;
+/// assert_eq!(NumError::OutOfRange.to_string(), "value is outside the fixed-point range");
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum NumError {
     /// The input was NaN or infinite.

@@ -26,6 +26,16 @@ use crate::raster::GUARD;
 pub const MAX_COORD: i32 = 1 << 14;
 
 /// Why a mesh was refused.
+///
+/// ```
+/// use fixshade::fixed::{Q16_16, Q2_14};
+/// use fixshade::geometry::{Mesh, MeshError};
+/// let p = [[Q16_16::ZERO; 3]; 3];
+/// let n = [[Q2_14::ONE; 3]; 3];
+/// assert_eq!(Mesh::new(&p, &n, &[[0, 1, 3]]).unwrap_err(), MeshError::IndexOutOfRange(0));
+/// assert_eq!(Mesh::new(&p, &n[..2], &[]).unwrap_err(), MeshError::NormalCount);
+/// assert_eq!(MeshError::IndexOutOfRange(0).to_string(), "triangle 0 refers to a missing vertex");
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum MeshError {
     /// Positions and normals differ in count.
@@ -52,6 +62,21 @@ impl core::fmt::Display for MeshError {
 }
 
 /// A validated triangle mesh. Triangles are counter-clockwise seen from their front.
+///
+/// ```
+/// use fixshade::fixed::{Q16_16, Q2_14};
+/// use fixshade::geometry::Mesh;
+/// let q = Q16_16::from_int;
+/// let z = Q2_14::from_bits(0);
+/// // One triangle in the z = 0 plane, facing +z; the slices can be `static`s in flash.
+/// static TRI: [[u16; 3]; 1] = [[0, 1, 2]];
+/// let positions = [[q(-1), q(-1), q(0)], [q(1), q(-1), q(0)], [q(0), q(1), q(0)]];
+/// let normals = [[z, z, Q2_14::ONE]; 3];
+/// let mesh = Mesh::new(&positions, &normals, &TRI).unwrap();
+/// assert_eq!(mesh.triangles().len(), 1);
+/// assert_eq!(mesh.positions()[2][1], q(1));
+/// assert_eq!(mesh.normals()[0][2], Q2_14::ONE);
+/// ```
 #[derive(Copy, Clone, Debug)]
 pub struct Mesh<'a> {
     positions: &'a [Vec3],
@@ -110,6 +135,15 @@ impl<'a> Mesh<'a> {
 }
 
 /// The viewport: clip coordinates to Q12.4 screen coordinates and Q16.16 depth.
+///
+/// ```
+/// use fixshade::geometry::Viewport;
+/// let vp = Viewport { width: 320, height: 240 };
+/// // NDC (-1, 1) is the top-left corner of the frame (Q12.4 pixels), depth 0 at z = -w.
+/// assert_eq!(vp.project([-1 << 20, 1 << 20, -1 << 20, 1 << 20]), Some((0, 0, 0)));
+/// // Behind the eye (w ≤ 0): no projection.
+/// assert_eq!(vp.project([0, 0, 0, -1]), None);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Viewport {
     /// Frame width in pixels.
@@ -168,6 +202,12 @@ impl Viewport {
 }
 
 /// Shifts homogeneous coordinates right until every |component| < 2³⁰.
+///
+/// ```
+/// use fixshade::geometry::normalize_clip;
+/// assert_eq!(normalize_clip([1 << 40, 0, -(1 << 39), 1 << 38]), [1 << 29, 0, -(1 << 28), 1 << 27]);
+/// assert_eq!(normalize_clip([5, 6, 7, 8]), [5, 6, 7, 8]);
+/// ```
 #[inline]
 pub fn normalize_clip(c: [i64; 4]) -> [i64; 4] {
     let max = c.iter().fold(0u64, |m, v| m | v.unsigned_abs());

@@ -38,6 +38,8 @@ pub mod clip;
 #[cfg(feature = "defmt")]
 mod defmt_impls;
 pub mod divide;
+#[doc(hidden)]
+pub mod doc_support;
 #[cfg(feature = "embedded-graphics")]
 pub mod eg;
 pub mod fixed;

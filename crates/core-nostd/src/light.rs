@@ -27,10 +27,30 @@ use crate::fixed::Q16_16;
 use crate::math::{dot_q30, normalize_to_q30, pow_q30, Mat4, Vec3, ONE_Q30};
 
 /// An RGB colour, Q16.16 per channel, 0..=1 for inputs.
+///
+/// ```
+/// use fixshade::light::Color;
+/// use fixshade::prelude::rgb;
+/// let orange: Color = rgb(255, 128, 0);
+/// assert_eq!(orange[0].to_bits(), 1 << 16); // 255 is 1.0
+/// ```
 pub type Color = [Q16_16; 3];
 
 /// The kind of a light; positions and directions are given in world space and
 /// transformed to eye space by the view matrix once per frame.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::{Light, LightKind};
+/// let q = Q16_16::from_int;
+/// let mut lamp = Light::directional([q(0), q(1), q(0)], [Q16_16::ONE; 3], [Q16_16::ONE; 3]);
+/// // A bulb at (0, 2, 0) whose light halves at distance 1: 1 / (1 + d).
+/// lamp.kind = LightKind::Point {
+///     position: [q(0), q(2), q(0)],
+///     attenuation: [Q16_16::ONE, Q16_16::ONE, Q16_16::ZERO],
+/// };
+/// assert!(matches!(lamp.kind, LightKind::Point { .. }));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum LightKind {
     /// At infinity; `direction` points from the surface towards the light.
@@ -48,6 +68,20 @@ pub enum LightKind {
 }
 
 /// An OpenGL fixed-function light.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::Light;
+/// use fixshade::prelude::rgb;
+/// // A warm sun from the upper right, no specular part, a little ambient.
+/// let mut sun = Light::directional(
+///     [Q16_16::ONE, Q16_16::ONE, Q16_16::ZERO],
+///     rgb(255, 240, 220),
+///     rgb(0, 0, 0),
+/// );
+/// sun.ambient = rgb(20, 20, 20);
+/// assert_eq!(sun.specular, [Q16_16::ZERO; 3]);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Light {
     /// Directional or point.
@@ -73,6 +107,19 @@ impl Light {
 }
 
 /// An OpenGL fixed-function material.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::Material;
+/// use fixshade::prelude::rgb;
+/// let gold = Material {
+///     diffuse: rgb(200, 160, 60),
+///     specular: rgb(255, 240, 200),
+///     shininess: Q16_16::from_int(40),
+///     ..Material::default()
+/// };
+/// assert_eq!(gold.ambient, Material::default().ambient);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Material {
     /// Emission.
@@ -102,6 +149,18 @@ impl Default for Material {
 }
 
 /// The specular seam: how `cⁿ` (c = N·H) is evaluated.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::{BlinnExact, Specular};
+/// use fixshade::specular::Schlick;
+/// let c = 0x3800_0000; // N·H = 0.875 in Q2.30
+/// let n = Q16_16::from_int(8);
+/// let exact = BlinnExact::eval(&BlinnExact::prepare(n), c); // 0.875⁸ ≈ 0.344
+/// let approx = Schlick::eval(&Schlick::prepare(n), c); // c / (n − n·c + c) ≈ 0.467
+/// assert!((exact - 368947264).abs() < 1 << 8);
+/// assert!(approx > exact);
+/// ```
 pub trait Specular {
     /// Per-material data derived from n once per frame (a table lookup, a reciprocal).
     type Params: Copy;
@@ -119,6 +178,13 @@ pub trait Specular {
 }
 
 /// Exact `cⁿ` (see [`pow_q30`]).
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::{BlinnExact, Specular};
+/// let p = BlinnExact::prepare(Q16_16::from_int(2));
+/// assert_eq!(BlinnExact::eval(&p, 1 << 29), 1 << 28); // 0.5² = 0.25
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct BlinnExact;
 
@@ -164,6 +230,21 @@ struct EyeLight {
 pub const MAX_LIGHTS: usize = 8;
 
 /// Everything the per-vertex lighting needs for one object in one frame.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+/// use fixshade::math::{Mat4, ONE_Q30};
+/// let white = [Q16_16::ONE; 3];
+/// let light = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white);
+/// let setup: LightingSetup<BlinnExact> =
+///     LightingSetup::new(&[light], &Mat4::IDENTITY, &Material::default(), [Q16_16::ZERO; 3], false);
+/// // A surface facing the light gets the default diffuse 0.8 (Q16.16) per channel.
+/// let c = setup.shade([0, 0, 0], [0, 0, ONE_Q30]);
+/// assert!((c[0] - 52_429).abs() <= 2);
+/// // Facing away: nothing (no ambient in this light or scene).
+/// assert_eq!(setup.shade([0, 0, 0], [0, 0, -ONE_Q30]), [0, 0, 0]);
+/// ```
 #[derive(Clone, Debug)]
 pub struct LightingSetup<S: Specular> {
     lights: heapless::Vec<EyeLight, MAX_LIGHTS>,

@@ -24,11 +24,20 @@ pub const ONE_Q32: i64 = 1 << 32;
 pub const ONE_Q30: i32 = 1 << 30;
 
 /// Floor of the square root of a `u128` (the core library's exact integer root).
+///
+/// ```
+/// assert_eq!(fixshade::math::isqrt_u128(1 << 100), 1 << 50);
+/// assert_eq!(fixshade::math::isqrt_u128(99), 9);
+/// ```
 pub const fn isqrt_u128(n: u128) -> u128 {
     n.isqrt()
 }
 
 /// Floor of the square root of a `u64` (the core library's exact integer root).
+///
+/// ```
+/// assert_eq!(fixshade::math::isqrt_u64(u64::MAX), u32::MAX as u64);
+/// ```
 pub const fn isqrt_u64(n: u64) -> u64 {
     n.isqrt()
 }
@@ -102,6 +111,13 @@ const fn sin_cos_small(t: i64) -> (i64, i64) {
 }
 
 /// Sine and cosine of a binary angle in Q32.32 (|error| ≤ about 3·2⁻³²).
+///
+/// ```
+/// use fixshade::{fixed::Angle, math::{sin_cos_q32, ONE_Q32}};
+/// let (s, c) = sin_cos_q32(Angle::from_degrees(60));
+/// assert!((c - ONE_Q32 / 2).abs() <= 3);
+/// assert!(s > c);
+/// ```
 pub const fn sin_cos_q32(a: Angle) -> (i64, i64) {
     let bits = a.to_turns_bits();
     let octant = bits >> 29;
@@ -127,11 +143,21 @@ pub const fn sin_cos_q32(a: Angle) -> (i64, i64) {
 }
 
 /// Sine in Q2.30.
+///
+/// ```
+/// use fixshade::{fixed::Angle, math::{sin_q30, ONE_Q30}};
+/// assert_eq!(sin_q30(Angle::from_degrees(-90)), -ONE_Q30);
+/// ```
 pub const fn sin_q30(a: Angle) -> i32 {
     round_q32_to_q30(sin_cos_q32(a).0)
 }
 
 /// Cosine in Q2.30.
+///
+/// ```
+/// use fixshade::{fixed::Angle, math::{cos_q30, ONE_Q30}};
+/// assert_eq!(cos_q30(Angle::from_degrees(0)), ONE_Q30);
+/// ```
 pub const fn cos_q30(a: Angle) -> i32 {
     round_q32_to_q30(sin_cos_q32(a).1)
 }
@@ -144,6 +170,21 @@ const fn round_q32_to_q30(v: i64) -> i32 {
 /// convention as in OpenGL: `m[row][col]`, points transform as `M · p`.
 ///
 /// Built once per frame; entries saturate rather than wrap.
+///
+/// ```
+/// use fixshade::fixed::{Angle, Q16_16};
+/// use fixshade::math::{Mat4, ONE_Q32};
+/// let q = Q16_16::from_int;
+/// // Turn a point 90° about z, then move it by (1, 0, 0).
+/// let m = Mat4::translate([q(1), q(0), q(0)]).mul(&Mat4::rotate_z(Angle::from_degrees(90)));
+/// let p = m.transform_point([q(1), q(0), q(0)]);
+/// assert!((p[0] - ONE_Q32).abs() <= 4 && (p[1] - ONE_Q32).abs() <= 4);
+/// // A camera at z = 5 looking at the origin maps the origin to z = -5 in eye space.
+/// let view = Mat4::look_at([q(0), q(0), q(5)], [q(0); 3], [q(0), q(1), q(0)]).unwrap();
+/// assert_eq!(view.transform_point([q(0); 3]), [0, 0, -5 * ONE_Q32]);
+/// assert!(Mat4::perspective(Angle::from_degrees(60), 4, 3, q(1), q(10)).is_some());
+/// assert!(Mat4::perspective(Angle::from_degrees(60), 4, 3, q(10), q(1)).is_none());
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Mat4 {
     /// Entries, `m[row][col]`, Q32.32.
@@ -151,6 +192,12 @@ pub struct Mat4 {
 }
 
 /// A 3-vector of Q16.16 values.
+///
+/// ```
+/// use fixshade::{fixed::Q16_16, math::Vec3};
+/// let up: Vec3 = [Q16_16::ZERO, Q16_16::ONE, Q16_16::ZERO];
+/// assert_eq!(up[1].to_bits(), 1 << 16);
+/// ```
 pub type Vec3 = [Q16_16; 3];
 
 fn q16_to_q32(v: Q16_16) -> i64 {
@@ -357,6 +404,12 @@ fn sat_i128_to_i64(v: i128) -> i64 {
 }
 
 /// Cross product of Q32.32 vectors (saturating).
+///
+/// ```
+/// use fixshade::math::{cross_q32, ONE_Q32};
+/// let (x, y) = ([ONE_Q32, 0, 0], [0, ONE_Q32, 0]);
+/// assert_eq!(cross_q32(x, y), [0, 0, ONE_Q32]);
+/// ```
 pub fn cross_q32(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
     [
         mul_q32(a[1], b[2]) - mul_q32(a[2], b[1]),
@@ -368,6 +421,13 @@ pub fn cross_q32(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
 /// Unit vector in Q32.32, `None` for the zero vector. Exact to about 2⁻³² per
 /// component (the length comes from an exact integer square root of the `i128`
 /// sum of squares).
+///
+/// ```
+/// use fixshade::math::{normalize_q32, ONE_Q32};
+/// // 3/5 and 4/5 in Q32.32, rounded to nearest.
+/// assert_eq!(normalize_q32([3, 0, 4]), Some([(3 * ONE_Q32 + 2) / 5, 0, (4 * ONE_Q32 + 2) / 5]));
+/// assert_eq!(normalize_q32([0, 0, 0]), None);
+/// ```
 pub fn normalize_q32(v: [i64; 3]) -> Option<[i64; 3]> {
     let sq: u128 = v.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
     if sq == 0 {
@@ -384,6 +444,15 @@ pub fn normalize_q32(v: [i64; 3]) -> Option<[i64; 3]> {
 /// the largest one in [2³⁰, 2³¹): the per-vertex form of a model-view-projection
 /// matrix. Scale is irrelevant to a projective transform (x/w, y/w, z/w are
 /// unchanged), so only the relative precision of about 2⁻³⁰ matters.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::math::{ClipMatrix, Mat4};
+/// let c = ClipMatrix::new(&Mat4::IDENTITY).unwrap();
+/// // The identity is scaled by 2^30: x, y, z, w keep their ratios.
+/// let p = c.transform(&[Q16_16::from_int(2), Q16_16::ZERO, Q16_16::ZERO]);
+/// assert_eq!(p[0] / p[3], 2);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct ClipMatrix {
     /// Entries, `m[row][col]`.
@@ -436,6 +505,15 @@ impl ClipMatrix {
 /// An affine 3-D transform for the lighting stage: a Q16.16 linear part and
 /// translation (eye-space positions), plus a normal matrix (the cofactor matrix of the
 /// linear part, sign-corrected, normalised like [`ClipMatrix`]) for normals.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::math::{Affine3, Mat4};
+/// let q = Q16_16::from_int;
+/// let a = Affine3::new(&Mat4::translate([q(0), q(0), q(-3)])).unwrap();
+/// assert_eq!(a.point(&[q(1), q(2), q(3)]), [1 << 16, 2 << 16, 0]);
+/// assert!(Affine3::new(&Mat4::scale([q(0), q(1), q(1)])).is_none());
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Affine3 {
     /// Linear part, Q16.16, `m[row][col]`.
@@ -532,6 +610,13 @@ fn scale_for_length(v: [i64; 3]) -> Option<(i64, i64, i64, u64)> {
 /// The components are first shifted so the largest is below 2³¹, then the length is
 /// an exact integer square root of an i64 sum of squares (< 3·2⁶²... bounded by
 /// shifting to below 2³⁰·√(2) per component).
+///
+/// ```
+/// use fixshade::math::{normalize_to_q30, ONE_Q30};
+/// assert_eq!(normalize_to_q30([0, -7, 0]), Some([0, -ONE_Q30, 0]));
+/// let n = normalize_to_q30([1, 1, 0]).unwrap();
+/// assert!((n[0] - 759_250_125).abs() <= 1); // 2^30 / √2
+/// ```
 #[inline]
 pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     let (x, y, z, sq) = scale_for_length(v)?;
@@ -568,6 +653,12 @@ const RSQRT_SEED: [u32; 192] = {
 ///
 /// Bounds: `r` ∈ (2³⁰, 2³¹]; `r²/2³²` < 2³⁰; times `s/2³⁰` < 2³² gives < 2⁶²;
 /// `3·2³⁰ − y` ∈ (0, 2³²) for y within 2⁻⁷ of 2³⁰, and `r·(3·2³⁰ − y)` < 2⁶³.
+///
+/// ```
+/// use fixshade::math::rsqrt_q61;
+/// // 2^61 / √(2^60) = 2^31.
+/// assert!(rsqrt_q61(1 << 60).abs_diff(1 << 31) <= 4);
+/// ```
 #[inline]
 pub fn rsqrt_q61(s: u64) -> u64 {
     let mut r = RSQRT_SEED[((s >> 54) - 64) as usize] as u64;
@@ -586,6 +677,13 @@ pub fn rsqrt_q61(s: u64) -> u64 {
 /// [`rsqrt_q61`] instead of an integer square root and a division: the per-pixel
 /// renormalisation of Phong shading. Each component is within 4 units (Q2.30) of
 /// [`normalize_to_q30`]'s (tested).
+///
+/// ```
+/// use fixshade::math::{normalize_fast_q30, normalize_to_q30};
+/// let v = [123_456, -98_765, 4_321];
+/// let (a, b) = (normalize_fast_q30(v).unwrap(), normalize_to_q30(v).unwrap());
+/// assert!((0..3).all(|k| (a[k] - b[k]).abs() <= 4));
+/// ```
 #[inline]
 pub fn normalize_fast_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     let (x, y, z, sq) = scale_for_length(v)?;
@@ -600,6 +698,12 @@ pub fn normalize_fast_q30(v: [i64; 3]) -> Option<[i32; 3]> {
 }
 
 /// Dot product of Q2.30 vectors, Q2.30 (products < 2⁶¹, sum < 2⁶³).
+///
+/// ```
+/// use fixshade::math::{dot_q30, ONE_Q30};
+/// let h = ONE_Q30 / 2;
+/// assert_eq!(dot_q30([h, h, 0], [ONE_Q30, ONE_Q30, 0]), ONE_Q30);
+/// ```
 #[inline]
 pub fn dot_q30(a: [i32; 3], b: [i32; 3]) -> i32 {
     let s = a[0] as i64 * b[0] as i64 + a[1] as i64 * b[1] as i64 + a[2] as i64 * b[2] as i64;

@@ -64,12 +64,33 @@
 
 /// A costly per-pixel function: the colour of pixel `(x, y)` in the target's
 /// channel units.
+///
+/// ```
+/// use fixshade::sampler::PixelFn;
+/// // Any closure-like state works; here a disc of radius 4 around (4, 4).
+/// struct Disc;
+/// impl PixelFn for Disc {
+///     fn eval(&mut self, x: u32, y: u32) -> [u32; 3] {
+///         let (dx, dy) = (x as i32 - 4, y as i32 - 4);
+///         if dx * dx + dy * dy <= 16 { [255, 255, 255] } else { [0; 3] }
+///     }
+/// }
+/// assert_eq!(Disc.eval(4, 4), [255; 3]);
+/// assert_eq!(Disc.eval(0, 0), [0; 3]);
+/// ```
 pub trait PixelFn {
     /// Evaluates pixel `(x, y)`.
     fn eval(&mut self, x: u32, y: u32) -> [u32; 3];
 }
 
 /// The difference threshold K, turned into one integer limit per channel.
+///
+/// ```
+/// use fixshade::sampler::{Threshold, SEED_K_Q8};
+/// let k = Threshold::from_q8(SEED_K_Q8, [255; 3]);
+/// assert!(!k.differ([10, 10, 10], [12, 10, 10])); // 2 levels ≤ 2.3
+/// assert!(k.differ([10, 10, 10], [13, 10, 10])); // 3 levels > 2.3
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Threshold {
     limit: [u32; 3],
@@ -135,6 +156,21 @@ fn lerp(a: u32, b: u32, i: u32, n: u32) -> u32 {
 /// Fills row `y` (`out.len()` pixels) with segments of `segment` pixels (clamped to
 /// 1..=[`MAX_SEGMENT`]) and threshold `k`; returns the number of evaluations.
 /// An empty row costs nothing.
+///
+/// ```
+/// use fixshade::sampler::{fill_row, PixelFn, Threshold};
+/// // A step at x = 5: segments that straddle it are halved down to single pixels.
+/// struct Step;
+/// impl PixelFn for Step {
+///     fn eval(&mut self, x: u32, _y: u32) -> [u32; 3] {
+///         if x < 5 { [0; 3] } else { [255; 3] }
+///     }
+/// }
+/// let mut row = [[0u32; 3]; 16];
+/// let evals = fill_row(&mut Step, 0, 8, Threshold::from_q8(256, [255; 3]), &mut row);
+/// assert!(row.iter().enumerate().all(|(x, c)| c[0] == if x < 5 { 0 } else { 255 }));
+/// assert!(evals < 16); // fewer evaluations than pixels, yet the edge is exact
+/// ```
 pub fn fill_row<F: PixelFn>(
     f: &mut F,
     y: u32,
@@ -195,6 +231,21 @@ const UNKNOWN: u32 = u32::MAX;
 /// returns the number of evaluations. Each pixel is evaluated at most once (shared
 /// corners and edges are reused). A strip renderer calls it per band of rows; the
 /// band's first row is then evaluated again.
+///
+/// ```
+/// use fixshade::sampler::{fill_blocks, PixelFn, Threshold};
+/// // A flat image costs only the corners of its 4×4 blocks: a 5×5 grid for 17×17 pixels.
+/// struct Flat;
+/// impl PixelFn for Flat {
+///     fn eval(&mut self, _x: u32, _y: u32) -> [u32; 3] {
+///         [100, 50, 25]
+///     }
+/// }
+/// let mut img = [[0u32; 3]; 17 * 17];
+/// let evals = fill_blocks(&mut Flat, 17, 17, 4, Threshold::from_q8(0, [255; 3]), &mut img);
+/// assert_eq!(evals, 25);
+/// assert!(img.iter().all(|c| *c == [100, 50, 25]));
+/// ```
 pub fn fill_blocks<F: PixelFn>(
     f: &mut F,
     width: u32,

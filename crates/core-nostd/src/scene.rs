@@ -27,6 +27,17 @@ use crate::math::{Mat4, Vec3};
 pub const MAX_OBJECTS: usize = 16;
 
 /// A projection.
+///
+/// ```
+/// use fixshade::fixed::{Angle, Q16_16};
+/// use fixshade::scene::{Camera, Projection};
+/// let q = Q16_16::from_int;
+/// // A flat HUD: 10 units of world seen top to bottom, no perspective.
+/// let mut cam = Camera::orthographic([q(0), q(0), q(5)], [q(0); 3], q(10));
+/// assert!(matches!(cam.projection, Projection::Orthographic { .. }));
+/// cam.projection = Projection::Perspective { fovy: Angle::from_degrees(90), near: q(1), far: q(1) };
+/// assert!(cam.projection_matrix(320, 240).is_none()); // far must exceed near
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum Projection {
     /// `gluPerspective(fovy, width / height, near, far)`.
@@ -50,6 +61,19 @@ pub enum Projection {
 }
 
 /// A `gluLookAt` camera with its projection.
+///
+/// ```
+/// use fixshade::fixed::{Angle, Q16_16};
+/// use fixshade::scene::Camera;
+/// let q = Q16_16::from_int;
+/// let cam = Camera::perspective([q(0), q(2), q(6)], [q(0); 3], Angle::from_degrees(45))
+///     .with_depth_range(q(1), q(20));
+/// assert!(cam.view().is_some() && cam.projection_matrix(240, 240).is_some());
+/// // Looking straight down with the default +y up has no defined view.
+/// let down = Camera::perspective([q(0), q(5), q(0)], [q(0); 3], Angle::from_degrees(45));
+/// assert!(down.view().is_none());
+/// assert!(down.with_up([q(0), q(0), q(-1)]).view().is_some());
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Camera {
     /// Eye position.
@@ -85,6 +109,20 @@ impl Camera {
 }
 
 /// Where an object sits: the model matrix `T · Rz · Ry · Rx · S`.
+///
+/// ```
+/// use fixshade::fixed::{Angle, Q16_16};
+/// use fixshade::math::ONE_Q32;
+/// use fixshade::scene::Placement;
+/// let p = Placement {
+///     translate: [Q16_16::from_int(1), Q16_16::ZERO, Q16_16::ZERO],
+///     rotate: [Angle::default(), Angle::from_degrees(90), Angle::default()],
+///     scale: Q16_16::from_int(2),
+/// };
+/// // (0, 0, 1) is scaled to (0, 0, 2), turned about y to (2, 0, 0), moved to (3, 0, 0).
+/// let m = p.matrix().transform_point([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE]);
+/// assert!((m[0] - 3 * ONE_Q32).abs() <= 8 && m[2].abs() <= 8);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Placement {
     /// Translation.
@@ -113,6 +151,18 @@ impl Placement {
 }
 
 /// A mesh placed in the world with a material.
+///
+/// ```
+/// use fixshade::fixed::{Angle, Q16_16};
+/// use fixshade::prelude::{rgb, Material, Object};
+/// # let mesh = fixshade::doc_support::triangle().unwrap();
+/// let obj = Object::new(mesh)
+///     .translated([Q16_16::ZERO, Q16_16::ONE, Q16_16::ZERO])
+///     .rotated([Angle::default(), Angle::from_degrees(30), Angle::default()])
+///     .scaled(Q16_16::from_ratio(1, 2))
+///     .with_material(Material::default().with_diffuse(rgb(40, 200, 90)));
+/// assert_eq!(obj.placement.scale, Q16_16::from_ratio(1, 2));
+/// ```
 #[derive(Copy, Clone, Debug)]
 pub struct Object<'a> {
     /// The mesh (usually in flash).
@@ -124,6 +174,17 @@ pub struct Object<'a> {
 }
 
 /// A scene's fixed capacity (8 lights, 16 objects) is exhausted.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut scene = scene;
+/// let sun = scene.lights[0];
+/// while scene.lights.len() < 8 {
+///     scene.add_light(sun).unwrap();
+/// }
+/// assert_eq!(scene.add_light(sun), Err(CapacityError));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct CapacityError;
 
@@ -134,6 +195,15 @@ impl core::fmt::Display for CapacityError {
 }
 
 /// Shading mode chosen in a scene.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// // Per-pixel lighting for this scene; `Frame::draw` picks the matching pipeline.
+/// let scene = scene.with_shading(ShadingMode::Phong);
+/// assert_eq!(scene.shading, ShadingMode::Phong);
+/// assert_eq!(ShadingMode::default(), ShadingMode::Gouraud);
+/// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum ShadingMode {
     /// One colour per triangle.
@@ -151,6 +221,18 @@ pub enum ShadingMode {
 }
 
 /// Everything a frame needs.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let mesh = fixshade::doc_support::triangle().unwrap();
+/// let eye = [Q16_16::ZERO, Q16_16::ZERO, Q16_16::from_int(3)];
+/// let mut scene = Scene::new(Camera::perspective(eye, [Q16_16::ZERO; 3], Angle::from_degrees(60)));
+/// scene.add_light(Light::directional(eye, rgb(255, 255, 255), rgb(0, 0, 0))).unwrap();
+/// scene.add_object(Object::new(mesh)).unwrap();
+/// scene.add_object(Object::new(mesh).translated([Q16_16::ONE, Q16_16::ZERO, Q16_16::ZERO])).unwrap();
+/// assert_eq!(scene.vertex_count(), 6); // the size of the vertex cache to hand `Frame::prepare`
+/// assert!(scene.cull_back && scene.depth_test);
+/// ```
 #[derive(Clone, Debug)]
 pub struct Scene<'a> {
     /// Camera.

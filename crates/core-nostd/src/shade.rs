@@ -10,6 +10,13 @@
 //! interpolation at all.
 
 /// A shading mode.
+///
+/// ```
+/// use fixshade::shade::{Flat, Gouraud, Phong, Quadratic, Shading};
+/// assert!(!Flat::INTERPOLATE && Gouraud::INTERPOLATE);
+/// assert!(Quadratic::QUADRATIC && Phong::PER_PIXEL);
+/// assert_eq!(Gouraud::NAME, "gouraud");
+/// ```
 pub trait Shading {
     /// Name used by the CLI and scene files.
     const NAME: &'static str;
@@ -30,10 +37,32 @@ pub trait Shading {
 }
 
 /// One colour per triangle: its provoking (last) vertex's.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::span::DepthTest;
+/// use fixshade::shade::Flat;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut px = [0u16; 16 * 16];
+/// let mut z = [0xFFFFu16; 16 * 16];
+/// let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, Some(&mut z), 16, 16).unwrap();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::prepare(&scene, 16, 16, &mut cache).unwrap();
+/// frame.draw_with::<Gradient, DepthTest, Flat, _>(&mut fb).unwrap();
+/// // One colour over the whole triangle.
+/// let lit: Vec<u16> = fb.color().iter().copied().filter(|&p| p != 0).collect();
+/// assert!(lit.len() > 20 && lit.iter().all(|&p| p == lit[0]));
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Flat;
 
 /// Vertex colours interpolated linearly in screen space.
+///
+/// ```
+/// use fixshade::shade::{Gouraud, Shading};
+/// // The default of a scene: vertex colours interpolated with a constant increment.
+/// assert!(Gouraud::INTERPOLATE && !Gouraud::QUADRATIC && !Gouraud::PER_PIXEL);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Gouraud;
 
@@ -48,10 +77,52 @@ impl Shading for Gouraud {
 }
 
 /// The quadratic intensity surface (seed 003), 2×2 block fill over two scanlines.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::span::DepthTest;
+/// use fixshade::shade::{Quadratic, QuadraticRows};
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::prepare(&scene, 24, 24, &mut cache).unwrap();
+/// let draw = |first: bool| {
+///     let (mut px, mut z) = ([0u8; 24 * 24], [0xFFFFu16; 24 * 24]);
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 24, 24).unwrap();
+///     if first {
+///         frame.draw_with::<Gradient, DepthTest, Quadratic, _>(&mut fb).unwrap();
+///     } else {
+///         frame.draw_with::<Gradient, DepthTest, QuadraticRows, _>(&mut fb).unwrap();
+///     }
+///     px
+/// };
+/// // The two fills give the same pixels.
+/// assert_eq!(draw(true), draw(false));
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Quadratic;
 
 /// The quadratic intensity surface filled row by row (same pixels as [`Quadratic`]).
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::span::DepthTest;
+/// use fixshade::shade::{QuadraticRows, Quadratic};
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::prepare(&scene, 24, 24, &mut cache).unwrap();
+/// let draw = |first: bool| {
+///     let (mut px, mut z) = ([0u8; 24 * 24], [0xFFFFu16; 24 * 24]);
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 24, 24).unwrap();
+///     if first {
+///         frame.draw_with::<Gradient, DepthTest, QuadraticRows, _>(&mut fb).unwrap();
+///     } else {
+///         frame.draw_with::<Gradient, DepthTest, Quadratic, _>(&mut fb).unwrap();
+///     }
+///     px
+/// };
+/// // The two fills give the same pixels.
+/// assert_eq!(draw(true), draw(false));
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct QuadraticRows;
 
@@ -70,10 +141,52 @@ impl Shading for QuadraticRows {
 }
 
 /// Phong shading: normals and eye positions interpolated, every pixel lit.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::span::DepthTest;
+/// use fixshade::shade::{Phong, PhongEvenOdd};
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::prepare(&scene, 24, 24, &mut cache).unwrap();
+/// let draw = |first: bool| {
+///     let (mut px, mut z) = ([0u8; 24 * 24], [0xFFFFu16; 24 * 24]);
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 24, 24).unwrap();
+///     if first {
+///         frame.draw_with::<Gradient, DepthTest, Phong, _>(&mut fb).unwrap();
+///     } else {
+///         frame.draw_with::<Gradient, DepthTest, PhongEvenOdd, _>(&mut fb).unwrap();
+///     }
+///     px
+/// };
+/// // The two fills give the same pixels.
+/// assert_eq!(draw(true), draw(false));
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Phong;
 
 /// Phong shading with the even/odd fill of seed 003 (same pixels as [`Phong`]).
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::span::DepthTest;
+/// use fixshade::shade::{PhongEvenOdd, Phong};
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::prepare(&scene, 24, 24, &mut cache).unwrap();
+/// let draw = |first: bool| {
+///     let (mut px, mut z) = ([0u8; 24 * 24], [0xFFFFu16; 24 * 24]);
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 24, 24).unwrap();
+///     if first {
+///         frame.draw_with::<Gradient, DepthTest, PhongEvenOdd, _>(&mut fb).unwrap();
+///     } else {
+///         frame.draw_with::<Gradient, DepthTest, Phong, _>(&mut fb).unwrap();
+///     }
+///     px
+/// };
+/// // The two fills give the same pixels.
+/// assert_eq!(draw(true), draw(false));
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct PhongEvenOdd;
 

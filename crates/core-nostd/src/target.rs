@@ -23,6 +23,16 @@
 use core::ops::Range;
 
 /// A pixel format: how channel integers become stored pixels.
+///
+/// ```
+/// use fixshade::target::{Gray8, PixelFormat, Rgb565Le, Rgb888};
+/// // Channel integers in, stored pixel out, and back.
+/// let p = Rgb565Le::pack(31, 63, 0);
+/// assert_eq!(Rgb565Le::unpack(p), [31, 63, 0]);
+/// assert_eq!((Rgb565Le::MAX, Rgb565Le::BYTES, Rgb565Le::NAME), ([31, 63, 31], 2, "rgb565le"));
+/// assert_eq!(Rgb888::bytes(Rgb888::pack(1, 2, 3)), [1, 2, 3]);
+/// assert!(Gray8::GRAY);
+/// ```
 pub trait PixelFormat {
     /// One stored pixel.
     type Raw: Copy + Default + PartialEq + core::fmt::Debug;
@@ -52,16 +62,40 @@ pub trait PixelFormat {
 }
 
 /// RGB 5-6-5 whose bytes in memory are little-endian on any CPU.
+///
+/// ```
+/// use fixshade::target::{PixelFormat, Rgb565Le};
+/// // Little-endian bytes in memory whatever the CPU: pure red is 00 F8.
+/// assert_eq!(Rgb565Le::pack(31, 0, 0).to_ne_bytes(), [0x00, 0xF8]);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Rgb565Le;
 /// RGB 5-6-5 whose bytes in memory are big-endian on any CPU (the order ST7789 and
 /// ILI9341 controllers take over SPI).
+///
+/// ```
+/// use fixshade::target::{PixelFormat, Rgb565Be};
+/// // The bytes go to an SPI display in memory order: pure green is 07 E0.
+/// assert_eq!(Rgb565Be::pack(0, 63, 0).to_ne_bytes(), [0x07, 0xE0]);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Rgb565Be;
 /// RGB 8-8-8, three bytes R, G, B.
+///
+/// ```
+/// use fixshade::target::{PixelFormat, Rgb888};
+/// assert_eq!(Rgb888::pack(255, 128, 0), [255, 128, 0]);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Rgb888;
 /// 8-bit grey: `(77 R + 150 G + 29 B) / 256` of the lit colour.
+///
+/// ```
+/// use fixshade::target::{to_channels, Gray8, PixelFormat};
+/// // White lit colour (1.0 in Q16.16 per channel) is grey 255 in Q.16 channel units.
+/// assert_eq!(to_channels::<Gray8>([1 << 16; 3])[0] >> 16, 255);
+/// assert_eq!(Gray8::unpack(Gray8::pack(200, 0, 0)), [200, 200, 200]);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Gray8;
 
@@ -128,6 +162,15 @@ impl PixelFormat for Gray8 {
 }
 
 /// Errors building a target.
+///
+/// ```
+/// use fixshade::target::{Framebuffer, Rgb888, TargetError};
+/// let mut color = [[0u8; 3]; 8];
+/// let err = Framebuffer::<Rgb888>::new(&mut color, None, 4, 4).err();
+/// assert_eq!(err, Some(TargetError::ColorBufferTooSmall));
+/// let mut one = [[0u8; 3]; 1];
+/// assert_eq!(Framebuffer::<Rgb888>::new(&mut one, None, 0, 1).err(), Some(TargetError::BadSize));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum TargetError {
     /// Width or height is zero or above 4096.
@@ -156,6 +199,17 @@ pub const MAX_SIDE: u32 = 4096;
 
 /// Where the rasterizer writes: rows of a frame of `width` × `frame_height` pixels,
 /// of which the target holds `rows()`.
+///
+/// ```
+/// use fixshade::target::{Framebuffer, Gray8, Target};
+/// let mut color = [0u8; 6];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut color, None, 3, 2).unwrap();
+/// assert!(!fb.has_depth());
+/// let (row, depth) = fb.row(1);
+/// row[2] = 9;
+/// assert!(depth.is_empty());
+/// assert_eq!(fb.color(), &[0, 0, 0, 0, 0, 9]);
+/// ```
 pub trait Target<P: PixelFormat> {
     /// Frame width in pixels.
     fn width(&self) -> u32;
@@ -171,6 +225,17 @@ pub trait Target<P: PixelFormat> {
 }
 
 /// A whole frame in caller-owned buffers.
+///
+/// ```
+/// use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le, Target};
+/// let (w, h) = (8, 4);
+/// let mut color = [0u16; 8 * 4];
+/// let mut depth = [0u16; 8 * 4];
+/// let mut fb = Framebuffer::<Rgb565Le>::new(&mut color, Some(&mut depth), w, h).unwrap();
+/// fb.clear(Rgb565Le::pack(0, 0, 31));
+/// assert!(fb.color().iter().all(|&p| Rgb565Le::unpack(p) == [0, 0, 31]));
+/// assert_eq!(fb.row(3).1[0], 0xFFFF); // cleared to the far value
+/// ```
 pub struct Framebuffer<'a, P: PixelFormat> {
     strip: Strip<'a, P>,
 }
@@ -221,6 +286,20 @@ impl<P: PixelFormat> Target<P> for Framebuffer<'_, P> {
 
 /// Rows `[y0, y0 + h)` of a `width` × `frame_height` frame, in caller-owned buffers of
 /// `width·h` pixels.
+///
+/// ```
+/// use fixshade::target::{Rgb565Le, Strip, Target};
+/// // A 320×240 frame fed to a display 16 rows at a time from one 10 KiB buffer.
+/// let mut color = [0u16; 320 * 16];
+/// let mut strip = Strip::<Rgb565Le>::new(&mut color, None, 320, 240, 0, 16).unwrap();
+/// for band in 0..15 {
+///     strip.set_y0(band * 16).unwrap();
+///     strip.clear(0);
+///     // ... draw the frame into `strip`, then send `strip.color()` to the display
+///     assert_eq!(strip.rows(), band as i32 * 16..band as i32 * 16 + 16);
+/// }
+/// assert!(strip.set_y0(230).is_err()); // rows 230..246 are not all in the frame
+/// ```
 pub struct Strip<'a, P: PixelFormat> {
     color: &'a mut [P::Raw],
     depth: Option<&'a mut [u16]>,
@@ -317,6 +396,12 @@ impl<P: PixelFormat> Target<P> for Strip<'_, P> {
 
 /// Converts a lit Q16.16 colour (0..=1) to the format's channel units in Q.16.
 /// `c·MAX` ≤ 2¹⁶·255 < 2²⁴; for grey, `(77r + 150g + 29b)·255` < 2³²·… is taken in i64.
+///
+/// ```
+/// use fixshade::target::{to_channels, Rgb565Le};
+/// // Half red (0.5 in Q16.16) in 5-6-5 units: 15.5 in Q.16.
+/// assert_eq!(to_channels::<Rgb565Le>([1 << 15, 0, 0]), [31 << 15, 0, 0]);
+/// ```
 #[inline]
 pub fn to_channels<P: PixelFormat>(c: [i32; 3]) -> [i32; 3] {
     if P::GRAY {
