@@ -57,6 +57,14 @@ pub const MAX_PLANES: usize = 4;
 pub const SHADOW_BIAS: i32 = 1 << 7;
 
 /// An analytic sphere.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::Material;
+/// use fixshade::raycast::Sphere;
+/// let ball = Sphere { centre: [Q16_16::ZERO; 3], radius: Q16_16::ONE, material: Material::default() };
+/// assert!(ball.radius > Q16_16::ZERO);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Sphere {
     /// Centre, world space.
@@ -69,6 +77,19 @@ pub struct Sphere {
 
 /// An infinite plane through `point` with normal `normal` (both sides are lit as
 /// the side facing the ray).
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::Material;
+/// use fixshade::raycast::Plane;
+/// // The floor y = -1.
+/// let floor = Plane {
+///     point: [Q16_16::ZERO, Q16_16::from_int(-1), Q16_16::ZERO],
+///     normal: [Q16_16::ZERO, Q16_16::ONE, Q16_16::ZERO],
+///     material: Material::default(),
+/// };
+/// assert_eq!(floor.normal[1], Q16_16::ONE);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Plane {
     /// A point of the plane, world space.
@@ -81,6 +102,14 @@ pub struct Plane {
 
 /// What the ray caster draws: the scene (camera, lights, meshes) plus analytic
 /// spheres and planes.
+///
+/// ```
+/// use fixshade::raycast::RayScene;
+/// # let scene = fixshade::doc_support::scene();
+/// // The scene's mesh objects only, no analytic primitives, no shadows.
+/// let rs = RayScene { scene: &scene, spheres: &[], planes: &[], shadows: false };
+/// assert_eq!(rs.triangle_count(), 1);
+/// ```
 #[derive(Copy, Clone, Debug)]
 pub struct RayScene<'s, 'a> {
     /// Camera, lights and mesh objects.
@@ -94,6 +123,16 @@ pub struct RayScene<'s, 'a> {
 }
 
 /// Why a ray caster could not be prepared.
+///
+/// ```
+/// use fixshade::light::BlinnExact;
+/// use fixshade::raycast::{Caster, RayError, RayScene};
+/// # let scene = fixshade::doc_support::scene();
+/// let rs = RayScene { scene: &scene, spheres: &[], planes: &[], shadows: false };
+/// // The scene has 3 vertices; an empty cache is refused with the size it needs.
+/// let err = Caster::<BlinnExact>::prepare(rs, 32, 32, &mut [], &mut []).err();
+/// assert_eq!(err, Some(RayError::CacheTooSmall { needed: 3 }));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum RayError {
     /// Width or height outside 1..=4096.
@@ -142,6 +181,13 @@ impl core::fmt::Display for RayError {
 }
 
 /// A mesh vertex in eye space, prepared once per frame.
+///
+/// ```
+/// use fixshade::raycast::RayVertex;
+/// // Caller-owned per-vertex storage of the caster, one entry per scene vertex.
+/// let cache = [RayVertex::default(); 3];
+/// assert_eq!(cache[0].w, 0); // not yet prepared: no ray can hit it
+/// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct RayVertex {
     /// Eye-space position, Q16.16.
@@ -159,6 +205,13 @@ pub struct RayVertex {
 /// `y0..=y1` (empty when `x0 > x1`: back-facing with culling on, zero area, or a
 /// vertex no primary ray can hit). Scanning these 8-byte boxes is what a primary ray
 /// pays per triangle that is not near its pixel.
+///
+/// ```
+/// use fixshade::raycast::TriBox;
+/// // Caller-owned, one per mesh triangle (`RayScene::triangle_count`); 8 bytes each.
+/// let boxes = [TriBox::default(); 4];
+/// assert_eq!(core::mem::size_of_val(&boxes), 32);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct TriBox {
     x0: i16,
@@ -254,6 +307,25 @@ struct SurfaceLight<S: Specular> {
 }
 
 /// Everything the per-pixel ray cast needs, prepared once per frame.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::{BlinnExact, Material};
+/// use fixshade::raycast::{Caster, RayScene, RayVertex, Sphere, TriBox};
+/// # let scene = fixshade::doc_support::scene();
+/// // A unit sphere in front of the scene's triangle, casting a shadow onto it.
+/// let spheres = [Sphere {
+///     centre: [Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE],
+///     radius: Q16_16::from_ratio(1, 2),
+///     material: Material::default(),
+/// }];
+/// let rs = RayScene { scene: &scene, spheres: &spheres, planes: &[], shadows: true };
+/// let mut cache = [RayVertex::default(); 3];
+/// let mut boxes = [TriBox::default(); 1];
+/// let caster = Caster::<BlinnExact>::prepare(rs, 32, 32, &mut cache, &mut boxes).unwrap();
+/// assert!(caster.trace(16, 16).is_some()); // the sphere, in the middle
+/// assert!(caster.trace(0, 0).is_none()); // nothing in the corner
+/// ```
 pub struct Caster<'s, 'a, 'c, S: Specular> {
     rs: RayScene<'s, 'a>,
     cache: &'c [RayVertex],
@@ -878,6 +950,23 @@ fn blocks(o: [i64; 3], d: [i32; 3], v: &[[i64; 3]; 3], t_max: i64) -> bool {
 
 /// The caster as a [`PixelFn`] for the target format `P`: lit colours rounded to
 /// `P`'s channel integers, `background` (channel integers) where nothing is hit.
+///
+/// ```
+/// use fixshade::light::BlinnExact;
+/// use fixshade::raycast::{Caster, RayPixels, RayScene, RayVertex, TriBox};
+/// use fixshade::sampler::{fill_row, Threshold, SEED_K_Q8};
+/// use fixshade::target::Rgb888;
+/// # let scene = fixshade::doc_support::scene();
+/// let rs = RayScene { scene: &scene, spheres: &[], planes: &[], shadows: false };
+/// let (mut cache, mut boxes) = ([RayVertex::default(); 3], [TriBox::default(); 1]);
+/// let caster = Caster::<BlinnExact>::prepare(rs, 32, 32, &mut cache, &mut boxes).unwrap();
+/// // Row 20 with segments of 8 pixels: far fewer rays than pixels.
+/// let mut px = RayPixels::<_, Rgb888>::new(&caster, [0, 0, 40]);
+/// let mut row = [[0u32; 3]; 32];
+/// let rays = fill_row(&mut px, 20, 8, Threshold::from_q8(SEED_K_Q8, [255; 3]), &mut row);
+/// assert!(rays < 32);
+/// assert_eq!(row[0], [0, 0, 40]); // background left of the triangle
+/// ```
 pub struct RayPixels<'r, 's, 'a, 'c, S: Specular, P: PixelFormat> {
     caster: &'r Caster<'s, 'a, 'c, S>,
     background: [u32; 3],
@@ -897,6 +986,13 @@ impl<'r, 's, 'a, 'c, S: Specular, P: PixelFormat> RayPixels<'r, 's, 'a, 'c, S, P
 
 /// Rounds a Q16.16 colour in [0, 1] to channel integers of `P`: `⌊c·M + ½⌋`
 /// (`c·M` < 2¹⁶·2⁸); grey is `(77r + 150g + 29b)/256` first (< 2²⁴·2⁸ in i64).
+///
+/// ```
+/// use fixshade::raycast::to_channels;
+/// use fixshade::target::{Rgb565Le, Rgb888};
+/// assert_eq!(to_channels::<Rgb888>([1 << 16, 1 << 15, 0]), [255, 128, 0]);
+/// assert_eq!(to_channels::<Rgb565Le>([1 << 16, 1 << 15, 0]), [31, 32, 0]);
+/// ```
 pub fn to_channels<P: PixelFormat>(c: [i32; 3]) -> [u32; 3] {
     let r = |v: i64, m: u32| ((v * m as i64 + (1 << 15)) >> 16).clamp(0, m as i64) as u32;
     if P::GRAY {

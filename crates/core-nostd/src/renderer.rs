@@ -153,6 +153,14 @@ impl<'t, P: PixelFormat, T: Target<P>, S: SpanMethod, Sp: Specular> Renderer<'t,
 
 /// Why a draw through an adapter ([`crate::linebuf`], the `eg` module) failed: the
 /// frame, or a buffer the caller handed over.
+///
+/// ```
+/// use fixshade::renderer::DrawError;
+/// use fixshade::target::TargetError;
+/// let e: DrawError = TargetError::DepthBufferTooSmall.into();
+/// assert_eq!(e, DrawError::Buffer(TargetError::DepthBufferTooSmall));
+/// assert_eq!(e.to_string(), TargetError::DepthBufferTooSmall.to_string());
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum DrawError {
     /// Preparing or drawing the frame failed.
