@@ -32,7 +32,11 @@ pub fn triangle() -> Result<Mesh<'static>, MeshError> {
 /// [`EYE`] and lit by a white light from the eye's direction.
 pub fn scene() -> Scene<'static> {
     let white = rgb(255, 255, 255);
-    let mut s = Scene::new(Camera::perspective(EYE, [Q16_16::ZERO; 3], Angle::from_degrees(60)));
+    let mut s = Scene::new(Camera::perspective(
+        EYE,
+        [Q16_16::ZERO; 3],
+        Angle::from_degrees(60),
+    ));
     let mat = Material::default()
         .with_diffuse(rgb(230, 120, 40))
         .with_specular(white, 32);

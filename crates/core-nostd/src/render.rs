@@ -59,7 +59,9 @@ use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
-use crate::raster::phong::{self, draw_phong, PhongFill, PhongVertex};
+use crate::raster::phong::{
+    self, draw_phong, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
+};
 use crate::raster::quadratic::draw_quadratic;
 use crate::raster::span::Gradient;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
@@ -190,6 +192,9 @@ pub struct Stats {
     /// Triangles that asked for the quadratic surface but were drawn with Gouraud
     /// (those that went through the clipper: their pieces have no midpoint colours).
     pub fallback: u32,
+    /// Per-pixel lighting evaluations of sampled Phong shading
+    /// ([`Frame::draw_phong_sampled`]); 0 for every other path.
+    pub evaluations: u32,
 }
 
 impl core::ops::AddAssign for Stats {
@@ -200,6 +205,7 @@ impl core::ops::AddAssign for Stats {
         self.drawn += o.drawn;
         self.pixels += o.pixels;
         self.fallback += o.fallback;
+        self.evaluations += o.evaluations;
     }
 }
 
@@ -374,9 +380,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         }
         if Sh::PER_PIXEL {
             return if Sh::EVEN_ODD {
-                self.draw_phong::<Z, phong::EvenOdd, T>(target)
+                self.draw_phong::<Z, phong::EvenOdd, T>(target, None)
             } else {
-                self.draw_phong::<Z, phong::Rows, T>(target)
+                self.draw_phong::<Z, phong::Rows, T>(target, None)
             };
         }
         let mut st = Stats::default();
@@ -428,6 +434,44 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             }
         }
         Ok(st)
+    }
+
+    /// Phong shading with the lighting sampled by pixel segments (seed 002 §2.6, see
+    /// [`Sampling`]): the same coverage and depth as [`Frame::draw_with`] with
+    /// [`crate::shade::Phong`], and with `segment = 1` the same pixels; larger
+    /// segments light fewer pixels ([`Stats::evaluations`]) and interpolate the
+    /// rest where the segment ends differ by at most the threshold. The depth test
+    /// follows the scene.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::phong::Sampling;
+    /// use fixshade::sampler::{Threshold, SEED_K_Q8};
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb888>::prepare(&scene, 64, 64, &mut cache).unwrap();
+    /// let (mut px, mut z) = ([[0u8; 3]; 64 * 64], [0xFFFFu16; 64 * 64]);
+    /// let mut fb = Framebuffer::<Rgb888>::new(&mut px, Some(&mut z), 64, 64).unwrap();
+    /// let k = Threshold::from_q8(SEED_K_Q8, [255; 3]);
+    /// let st = frame.draw_phong_sampled(&mut fb, Sampling { segment: 8, threshold: k }).unwrap();
+    /// assert!(st.evaluations < st.pixels); // fewer lighting evaluations than pixels
+    /// ```
+    pub fn draw_phong_sampled<T: Target<P>>(
+        &self,
+        target: &mut T,
+        sampling: Sampling,
+    ) -> Result<Stats, RenderError> {
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if self.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        if self.scene.depth_test {
+            self.draw_phong::<DepthTest, phong::Rows, T>(target, Some(sampling))
+        } else {
+            self.draw_phong::<NoDepth, phong::Rows, T>(target, Some(sampling))
+        }
     }
 
     /// The quadratic path of [`Frame::draw_with`].
@@ -513,7 +557,13 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     fn draw_phong<Z: DepthMode, F: PhongFill, T: Target<P>>(
         &self,
         target: &mut T,
+        sampling: Option<Sampling>,
     ) -> Result<Stats, RenderError> {
+        // One Phong triangle: (pixels covered, lighting evaluations).
+        let draw = |target: &mut T, v: [PhongVertex; 3], light: &LightingSetup<Sp>| match sampling {
+            None => (draw_phong::<P, T, Z, F, _>(target, v, light), 0),
+            Some(sm) => draw_phong_sampled::<P, T, Z, _>(target, v, light, sm),
+        };
         let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
@@ -552,7 +602,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                             }
                         });
                         st.drawn += 1;
-                        st.pixels += draw_phong::<P, T, Z, F, _>(target, pv, &light);
+                        let (px, ev) = draw(target, pv, &light);
+                        st.pixels += px;
+                        st.evaluations += ev;
                     }
                     Class::Clip => {
                         st.clipped += 1;
@@ -586,7 +638,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                                 continue;
                             }
                             st.drawn += 1;
-                            st.pixels += draw_phong::<P, T, Z, F, _>(target, tri, &light);
+                            let (px, ev) = draw(target, tri, &light);
+                            st.pixels += px;
+                            st.evaluations += ev;
                         }
                     }
                 }

@@ -147,6 +147,7 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     }
     d.raycast.segment = o.segment.unwrap_or(d.raycast.segment);
     d.raycast.threshold = o.threshold.unwrap_or(d.raycast.threshold);
+    d.raycast.sampled |= o.segment.is_some() || o.threshold.is_some();
     pipeline::load(arg, &d, &dir).map_err(fail)
 }
 
@@ -295,8 +296,13 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
             let out = &output_or_default(&o);
             let r = pipeline::render(&ls, o.strip).map_err(fail)?;
             write(&r.image, out)?;
+            // Sampled Phong lights only some pixels: say how many.
+            let evals = match r.stats.evaluations {
+                0 => String::new(),
+                e => format!(", {e} lighting evaluations"),
+            };
             Ok(format!(
-                "{}: {} triangles ({} drawn, {} culled, {} clipped), {} covered pixels -> {}",
+                "{}: {} triangles ({} drawn, {} culled, {} clipped), {} covered pixels{evals} -> {}",
                 ls.name,
                 r.stats.triangles,
                 r.stats.drawn,
@@ -357,7 +363,7 @@ fn describe(name: &str) -> &'static str {
         "flat" => "one colour per triangle (its last vertex's)",
         "gouraud" => "vertex colours interpolated",
         "quadratic" => "quadratic surface through vertex and edge-midpoint colours (seed 003)",
-        "phong" => "normals interpolated, every pixel lit",
+        "phong" => "normals interpolated, every pixel lit (with --segment/--threshold: lit at segment ends, interpolated inside)",
         "phong-even-odd" => "phong with two accumulators per normal component; same pixels",
         "raycast" => "fixed-point ray casting sampled by pixel segments (--segment, --threshold)",
         "exact" => "c^n",

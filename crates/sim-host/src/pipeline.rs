@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::convert::{core_scene, quantize_mesh, quantize_scene, FixedMesh};
-use crate::desc::{FormatName, MeshData, SceneDesc, ShadingName, SpanName};
+use crate::desc::{FormatName, MeshData, SceneDesc, ShadingName};
 use crate::image::{channel_max, expand, Image};
 use crate::reference::{render_reference, RefOptions};
 use crate::{mesh, scene_file};
@@ -249,12 +249,27 @@ macro_rules! with_specular {
     }};
 }
 
+/// Draws a prepared frame with the scene's span method, or with sampled Phong
+/// lighting when the scene asks for Phong with a segment sampler
+/// ([`crate::raycast::RaycastDesc::sampled`]).
 fn span_dispatch<P: PixelFormat, Sp: Specular>(
     frame: &Frame<'_, '_, '_, P, Sp>,
-    span: SpanName,
+    d: &SceneDesc,
     fb: &mut impl fixshade::target::Target<P>,
 ) -> Result<Stats, String> {
-    with_span_method!(span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
+    if d.shading == ShadingName::Phong && d.raycast.sampled {
+        let sampling = fixshade::raster::phong::Sampling {
+            segment: d.raycast.segment,
+            threshold: fixshade::sampler::Threshold::from_q8(
+                crate::raycast::threshold_q8(d.raycast.threshold),
+                P::MAX,
+            ),
+        };
+        return frame
+            .draw_phong_sampled(fb, sampling)
+            .map_err(|e| e.to_string());
+    }
+    with_span_method!(d.span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
 }
 
 fn run_core<P: PixelFormat>(
@@ -285,7 +300,7 @@ fn run_core_with<P: PixelFormat, Sp: Specular>(
             let mut fb =
                 Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
                     .map_err(|e| e.to_string())?;
-            stats = span_dispatch(&frame, d.span, &mut fb)?;
+            stats = span_dispatch(&frame, d, &mut fb)?;
         }
         Some(rows) => {
             let rows = rows.clamp(1, h);
@@ -304,7 +319,7 @@ fn run_core_with<P: PixelFormat, Sp: Specular>(
                 )
                 .map_err(|e| e.to_string())?;
                 strip.clear(bg);
-                stats += span_dispatch(&frame, d.span, &mut strip)?;
+                stats += span_dispatch(&frame, d, &mut strip)?;
                 let len = w as usize * hh as usize;
                 let at = y0 as usize * w as usize;
                 color[at..at + len].copy_from_slice(&strip.color()[..len]);
@@ -414,7 +429,7 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
             let mut fb =
                 Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
                     .map_err(|e| e.to_string())?;
-            std::hint::black_box(span_dispatch(&frame, d.span, &mut fb)?);
+            std::hint::black_box(span_dispatch(&frame, d, &mut fb)?);
             times.push(t.elapsed());
         }
         times.sort();

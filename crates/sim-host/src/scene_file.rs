@@ -37,8 +37,8 @@
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
 //! | `perspective_correct` | boolean | `false` | honoured by the reference renderer only |
-//! | `segment` | integer | 8 | 1..=256; `raycast` only: segment length L of the pixel-segment sampler (1: every pixel) |
-//! | `threshold` | number | 2.3 | 0..=256; `raycast` only: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |
+//! | `segment` | integer | 8 | 1..=256; `raycast`, and `phong` when given: segment length L of the pixel-segment sampler (1: every pixel; Phong samples within pieces of 64 pixels of a span) |
+//! | `threshold` | number | 2.3 | 0..=256; `raycast`, and `phong` when given: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |
 //! | `block` | boolean | `false` | `raycast` only: sample L × L blocks instead of row segments |
 //! | `shadows` | boolean | `true` | `raycast` only: hard shadows from the first light |
 //!
@@ -1125,6 +1125,7 @@ fn raycast_render_keys(s: &Section<'_, '_>, r: &mut crate::raycast::RaycastDesc)
         );
     }
     r.block = s.boolean("block", r.block)?;
+    r.sampled |= s.get("segment").is_some() || s.get("threshold").is_some();
     r.shadows = s.boolean("shadows", r.shadows)?;
     Ok(())
 }

@@ -47,6 +47,7 @@ use super::setup::{setup_with_det, Det, Setup, ROUND_BIAS};
 use super::span::{depth_of, DepthMode};
 use super::{row_range, scan, ScreenVertex, GUARD};
 use crate::math::{normalize_fast_q30, ONE_Q30};
+use crate::sampler::{fill_row, PixelFn, Threshold};
 use crate::target::{to_channels, PixelFormat, Target};
 
 /// Lights one pixel: eye-space position (Q16.16) and unit normal (Q2.30) to a colour
@@ -167,6 +168,13 @@ impl Planes {
 /// Lights one pixel from its lattice values and stores it (the depth test has passed).
 #[inline(always)]
 fn shade_pixel<P: PixelFormat, L: PixelLight>(c: &mut P::Raw, a: &[i64; PA], light: &L) {
+    let [r, g, b] = lit_channels::<P, L>(a, light);
+    P::store(c, P::pack(r, g, b));
+}
+
+/// The lit colour of a pixel from its lattice values, as rounded channel integers.
+#[inline(always)]
+fn lit_channels<P: PixelFormat, L: PixelLight>(a: &[i64; PA], light: &L) -> [u32; 3] {
     let n = normalize_fast_q30([a[0], a[1], a[2]]).unwrap_or([0, 0, ONE_Q30]);
     // Positions are Q16.16 with 16 extra bits; covered pixels lie between the
     // vertices, so the shifted value fits i32.
@@ -178,7 +186,7 @@ fn shade_pixel<P: PixelFormat, L: PixelLight>(c: &mut P::Raw, a: &[i64; PA], lig
     let ch = to_channels::<P>(light.light(p, n));
     // Channels ≤ MAX·2^16 < 2^24: adding the rounding bias cannot overflow.
     let r = |v: i32| ((v + ROUND_BIAS) >> 16) as u32;
-    P::store(c, P::pack(r(ch[0]), r(ch[1]), r(ch[2])));
+    [r(ch[0]), r(ch[1]), r(ch[2])]
 }
 
 /// Depth test for one pixel (strictly nearer wins); writes the depth when it passes.
@@ -208,14 +216,104 @@ where
     F: PhongFill,
     L: PixelLight,
 {
+    draw_phong_with::<P, T, Z, F, L>(target, v, light, None).0
+}
+
+/// Sparse lighting of Phong spans: the pixel-segment sampler of seed 002 §2.6
+/// ([`crate::sampler::fill_row`]) applied to the per-pixel lighting of each span.
+///
+/// A span is cut into pieces of at most [`SAMPLED_PIECE`] pixels from its first
+/// pixel; in each piece the lighting is evaluated at the ends of segments of
+/// `segment` pixels (clamped to 1..=[`SAMPLED_PIECE`]), the inside is interpolated
+/// where the ends differ by at most `threshold` in every channel, and halved where
+/// they differ more. Every pixel is then depth-tested as usual (a hidden pixel may
+/// have been evaluated as a segment end). With `segment = 1` every pixel is lit, and
+/// the image is bit-identical to [`draw_phong`] (tested).
+///
+/// ```
+/// use fixshade::raster::phong::Sampling;
+/// use fixshade::sampler::{Threshold, SEED_K_Q8};
+/// let s = Sampling { segment: 8, threshold: Threshold::from_q8(SEED_K_Q8, [31, 63, 31]) };
+/// assert_eq!(s.threshold.limits(), [0, 0, 0]); // RGB565: any change subdivides
+/// ```
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Sampling {
+    /// Segment length L in pixels.
+    pub segment: u32,
+    /// Threshold K, in the target format's channel units.
+    pub threshold: Threshold,
+}
+
+/// Longest piece of a span the sampled fill handles at once (the size of its stack
+/// buffer of channel triples: 64 × 12 bytes).
+pub const SAMPLED_PIECE: usize = 64;
+
+/// [`draw_phong`] with the lighting sampled by pixel segments ([`Sampling`]).
+/// Returns the pixels covered (before the depth test) and the lighting
+/// evaluations made.
+///
+/// ```
+/// use fixshade::raster::phong::{draw_phong_sampled, PhongVertex, PixelLight, Sampling};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::sampler::Threshold;
+/// use fixshade::target::{Framebuffer, Gray8};
+///
+/// /// A constant light: every segment's ends agree.
+/// struct Grey;
+/// impl PixelLight for Grey {
+///     fn light(&self, _p: [i32; 3], _n: [i32; 3]) -> [i32; 3] {
+///         [1 << 15; 3]
+///     }
+/// }
+/// let mut px = [0u8; 32 * 32];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 32, 32).unwrap();
+/// let z = [0, 0, 1 << 30];
+/// let v = |x: i32, y: i32| PhongVertex { x: x * 16, y: y * 16, z: 0, n: z, p: [0; 3] };
+/// let s = Sampling { segment: 8, threshold: Threshold::from_q8(0, [255; 3]) };
+/// let (pixels, evals) =
+///     draw_phong_sampled::<Gray8, _, NoDepth, _>(&mut fb, [v(0, 0), v(0, 32), v(32, 0)], &Grey, s);
+/// assert_eq!(pixels, 496);
+/// assert!(evals * 4 < pixels); // about one evaluation per 8 pixels, plus span ends
+/// assert!(px.iter().filter(|&&p| p != 0).all(|&p| p == 128));
+/// ```
+pub fn draw_phong_sampled<P, T, Z, L>(
+    target: &mut T,
+    v: [PhongVertex; 3],
+    light: &L,
+    sampling: Sampling,
+) -> (u32, u32)
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    L: PixelLight,
+{
+    draw_phong_with::<P, T, Z, Rows, L>(target, v, light, Some(sampling))
+}
+
+/// The common body of [`draw_phong`] and [`draw_phong_sampled`]: (pixels covered,
+/// lighting evaluations; the latter only counted when sampling).
+fn draw_phong_with<P, T, Z, F, L>(
+    target: &mut T,
+    v: [PhongVertex; 3],
+    light: &L,
+    sampling: Option<Sampling>,
+) -> (u32, u32)
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    F: PhongFill,
+    L: PixelLight,
+{
     // `unsigned_abs`: a vertex at i32::MIN is outside too (no overflow).
     if v.iter()
         .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
     {
-        return 0;
+        return (0, 0);
     }
     if Z::TEST && !target.has_depth() {
-        return draw_phong::<P, T, super::span::NoDepth, F, L>(target, v, light);
+        return draw_phong_with::<P, T, super::span::NoDepth, F, L>(target, v, light, sampling);
     }
     let sv = v.map(|p| ScreenVertex {
         x: p.x,
@@ -224,26 +322,27 @@ where
         c: [0; 3],
     });
     let Some((s, det)) = setup_with_det(sv) else {
-        return 0;
+        return (0, 0);
     };
     // The same order as `Setup::v` (equal keys only in zero-area triangles).
     let mut sorted = v;
     sorted.sort_unstable_by_key(|p| (p.y, p.x));
     let planes = Planes::new(&sorted, &det);
     let Some(rows) = row_range(&s, target.rows()) else {
-        return 0;
+        return (0, 0);
     };
-    scan::<P, T, Z, _>(target, &s, rows, false, |color, depth, span| {
-        fill::<P, Z, F, L>(
-            color,
-            depth,
-            span.v[3],
-            &s,
-            planes.at(span.x0, span.y),
-            &planes,
-            light,
-        )
-    })
+    let mut evals = 0u32;
+    let pixels = scan::<P, T, Z, _>(target, &s, rows, false, |color, depth, span| {
+        let a = planes.at(span.x0, span.y);
+        match sampling {
+            None => fill::<P, Z, F, L>(color, depth, span.v[3], &s, a, &planes, light),
+            Some(sm) => {
+                let e = fill_sampled::<P, Z, L>(color, depth, span.v[3], &s, a, &planes, light, sm);
+                evals = evals.saturating_add(e);
+            }
+        }
+    });
+    (pixels, evals)
 }
 
 /// Fills one span: `z` is the lattice depth and `a` the attributes at its first pixel.
@@ -297,4 +396,66 @@ fn fill<P: PixelFormat, Z: DepthMode, F: PhongFill, L: PixelLight>(
             z = z.wrapping_add(gz);
         }
     }
+}
+
+/// The lighting of one span piece as a [`PixelFn`]: pixel `x` of the piece lies at
+/// `a + x·G` on the lattice.
+struct PieceLight<'l, P, L> {
+    a: [i64; PA],
+    g: [i64; PA],
+    light: &'l L,
+    _format: core::marker::PhantomData<P>,
+}
+
+impl<P: PixelFormat, L: PixelLight> PixelFn for PieceLight<'_, P, L> {
+    #[inline]
+    fn eval(&mut self, x: u32, _y: u32) -> [u32; 3] {
+        // x < SAMPLED_PIECE; wrapping like every lattice step.
+        let a =
+            core::array::from_fn(|k| self.a[k].wrapping_add((x as i64).wrapping_mul(self.g[k])));
+        lit_channels::<P, L>(&a, self.light)
+    }
+}
+
+/// Fills one span with sampled lighting (see [`Sampling`]); returns the evaluations.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn fill_sampled<P: PixelFormat, Z: DepthMode, L: PixelLight>(
+    color: &mut [P::Raw],
+    depth: &mut [u16],
+    z: i32,
+    s: &Setup,
+    a: [i64; PA],
+    planes: &Planes,
+    light: &L,
+    sm: Sampling,
+) -> u32 {
+    let gz = s.gx[3];
+    let g = planes.gx;
+    let seg = sm.segment.clamp(1, SAMPLED_PIECE as u32);
+    let mut buf = [[0u32; 3]; SAMPLED_PIECE];
+    let mut depth = depth.iter_mut();
+    let mut f = PieceLight::<P, L> {
+        a,
+        g,
+        light,
+        _format: core::marker::PhantomData,
+    };
+    let mut z = z;
+    let mut evals = 0u32;
+    for piece in color.chunks_mut(SAMPLED_PIECE) {
+        let out = &mut buf[..piece.len()];
+        evals = evals.saturating_add(fill_row(&mut f, 0, seg, sm.threshold, out));
+        for (c, ch) in piece.iter_mut().zip(out.iter()) {
+            if depth_pass::<Z>(depth.next(), z) {
+                P::store(c, P::pack(ch[0], ch[1], ch[2]));
+            }
+            z = z.wrapping_add(gz);
+        }
+        // The next piece starts SAMPLED_PIECE pixels on (wrapping, like the lattice).
+        for k in 0..PA {
+            f.a[k] = f.a[k].wrapping_add(g[k].wrapping_mul(SAMPLED_PIECE as i64));
+        }
+    }
+    evals
 }
