@@ -620,7 +620,7 @@ fn scale_for_length(v: [i64; 3]) -> Option<(i64, i64, i64, u64)> {
 #[inline]
 pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     let (x, y, z, sq) = scale_for_length(v)?;
-    let len = isqrt_u64(sq) as i64; // ≥ 2^29
+    let len = isqrt_scaled(sq) as i64; // ≥ 2^29
     if len == 0 {
         return None;
     }
@@ -671,6 +671,32 @@ pub fn rsqrt_q61(s: u64) -> u64 {
         k += 1;
     }
     r
+}
+
+/// `⌊√n⌋`, exactly as [`isqrt_u64`], for the sums of squares [`scale_for_length`]
+/// gives (`n` in [2⁵⁸, 2⁶²)) without a division: the estimate `n·rsqrt(n)` and a
+/// correction of it to the floor. Other `n` go to [`isqrt_u64`].
+///
+/// Bounds: `s = n·4^j` in [2⁶⁰, 2⁶²), `r` within 4 units of `2⁶¹/√s` in
+/// (2³⁰, 2³¹]; `(s >> 31)·r` < 2³¹·2³¹; the estimate `y` is within 16 units of √n
+/// (relative error of `r` below 2⁻²⁸ on √s < 2³¹, plus truncations), and
+/// `(y + 1)²` ≤ 2⁶² fits u64. The loops end at the unique `y` with
+/// `y² ≤ n < (y + 1)²`.
+#[inline]
+fn isqrt_scaled(n: u64) -> u64 {
+    if !(1u64 << 58..1u64 << 62).contains(&n) {
+        return isqrt_u64(n);
+    }
+    let j = if n < 1 << 60 { 1 } else { 0 };
+    let s = n << (2 * j);
+    let mut y = (((s >> 31) * rsqrt_q61(s)) >> 30) >> j;
+    while y * y > n {
+        y -= 1;
+    }
+    while (y + 1) * (y + 1) <= n {
+        y += 1;
+    }
+    y
 }
 
 /// Normalises like [`normalize_to_q30`], but with the reciprocal square root of
@@ -869,6 +895,38 @@ mod tests {
             assert!((r - want).abs() <= 4.0, "s={s} r={r} want={want}");
         }
         assert!(worst <= 4, "worst {worst}");
+    }
+
+    #[test]
+    fn scaled_isqrt_equals_isqrt() {
+        let mut seed = 0x0fed_cba9_8765_4321u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let check = |n: u64| assert_eq!(isqrt_scaled(n), isqrt_u64(n), "n = {n}");
+        for _ in 0..300_000 {
+            let n = next();
+            check(n >> (n % 7)); // mostly in [2^57, 2^64), across the fast range
+            let r = (n >> 33) | (1 << 29); // squares in the fast range and their neighbours
+            for d in [-1i64, 0, 1] {
+                check((r * r).wrapping_add(d as u64));
+            }
+        }
+        for n in [
+            0,
+            1,
+            (1 << 58) - 1,
+            1 << 58,
+            (1 << 60) - 1,
+            1 << 60,
+            (1 << 62) - 1,
+            1 << 62,
+        ] {
+            check(n);
+        }
     }
 
     #[test]

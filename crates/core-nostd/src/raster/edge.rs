@@ -56,7 +56,12 @@ impl EdgeStepper {
         let fx = (top.0 & 15) as i64;
         let n = fx * dy as i64 + dx as i64 * (16 * y as i64 + 8 - top.1 as i64) - 8 * dy as i64;
         // |n| < 2^30 keeps q·d ≤ |n| + d below 2^31 in the i32 path.
-        let (q, r) = if n.unsigned_abs() < 1 << 30 {
+        let (q, r) = if -(d as i64) < n && n <= d as i64 {
+            // ⌈n/d⌉ is 0 or 1 (the usual case on a small triangle): no division.
+            let n32 = n as i32;
+            let q = (n32 > 0) as i32;
+            (q, q * d - n32)
+        } else if n.unsigned_abs() < 1 << 30 {
             let n32 = n as i32;
             let q = -((-n32).div_euclid(d));
             (q, q * d - n32)
@@ -66,7 +71,14 @@ impl EdgeStepper {
         };
         // 16·|dx| < 2^21: the step division fits i32.
         let step = 16 * dx;
-        let a = step.div_euclid(d);
+        // ⌊step/d⌋ without a division when it is 0 or −1 (|dx| ≤ dy, the usual case).
+        let a = if (0..d).contains(&step) {
+            0
+        } else if (-d..0).contains(&step) {
+            -1
+        } else {
+            step.div_euclid(d)
+        };
         let b = step - a * d;
         EdgeStepper {
             q: qx + q,

@@ -153,9 +153,14 @@ where
         return 0;
     };
     let data = S::prepare(s);
-    scan::<P, T, Z, _>(target, s, rows, S::EDGE_VALUES, |c, d, span| {
-        S::fill::<P, Z, Sh>(c, d, span, s, &data)
-    })
+    scan::<P, T, Z, _>(
+        target,
+        s,
+        rows,
+        S::EDGE_VALUES,
+        #[inline(always)]
+        |c, d, span| S::fill::<P, Z, Sh>(c, d, span, s, &data),
+    )
 }
 
 /// The rows a set-up triangle covers inside `rows`: `(top, middle, bottom)`, where

@@ -107,7 +107,9 @@ impl Det {
     #[inline]
     pub(crate) fn gradient(&self, d1: i64, d2: i64, extra: u32) -> (i128, i128) {
         let sh = 62 - extra;
-        let quot = |num: i64| (num as i128 * self.inv + (1 << (sh - 1))) >> sh;
+        // |inv| ≤ 2^62 fits i64: a 64×64→128 product (one widening multiply).
+        let inv = self.inv as i64;
+        let quot = |num: i64| (num as i128 * inv as i128 + (1 << (sh - 1))) >> sh;
         (
             quot(16 * (d1 * self.dy2 - d2 * self.dy1)),
             quot(16 * (d2 * self.dx1 - d1 * self.dx2)),
@@ -128,7 +130,18 @@ pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
 
 /// [`setup`], also returning its [`Det`] for further attribute planes.
 pub(crate) fn setup_with_det(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
-    v.sort_unstable_by_key(|p| (p.y, p.x));
+    // Sorted by (y, x) with three compare-exchanges. Two vertices with equal keys
+    // coincide, so the triangle has zero area and is rejected whatever their order.
+    let key = |p: &ScreenVertex| (p.y, p.x);
+    if key(&v[1]) < key(&v[0]) {
+        v.swap(0, 1);
+    }
+    if key(&v[2]) < key(&v[1]) {
+        v.swap(1, 2);
+        if key(&v[1]) < key(&v[0]) {
+            v.swap(0, 1);
+        }
+    }
     let det = Det::new(v.map(|p| (p.x, p.y)))?;
     let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
     let mut gx = [0i64; ATTRS];

@@ -153,6 +153,71 @@ pub fn pack_pixel<P: PixelFormat, Z: DepthMode>(c: &mut P::Raw, d: &mut u16, v: 
     P::store(c, pack::<P>(v[0], v[1], v[2]));
 }
 
+/// The three colour channels of a span held in one `u64`, one add per pixel (SWAR).
+///
+/// Channel `k` takes a lane of `16 + bits(MAX[k])` bits (blue lowest): for
+/// Rgb565 21 + 22 + 21 = 64 bits. The packed start is `Σ v_k·2^off_k` and the packed
+/// increment `Σ g_k·2^off_k` (signed, modulo 2⁶⁴), so after `i` adds the register
+/// holds `Σ (v_k + i·g_k)·2^off_k` modulo 2⁶⁴ exactly. When every channel value
+/// `v_k + i·g_k` lies in `[0, 2^L_k)`, that sum is a base-2^L digit string without
+/// borrows or carries between lanes, and each lane's top `bits(MAX[k])` bits are
+/// exactly `(v_k + i·g_k) >> 16`, the value the scalar loop packs. The values are
+/// linear in `i`, so checking both ends of the span (in `i64`, no wrapping) covers
+/// every pixel; a span that fails the check (or a format whose lanes do not fit 64
+/// bits) takes the scalar loop. With the check at both ends, the values are the true
+/// unwrapped ones: a span of two or more pixels has `|g_k| < 2^L_k`, so the wrapped
+/// `i32` increment equals the true one.
+struct Packed<P>(core::marker::PhantomData<P>);
+
+/// Bits of the integer part of a channel whose largest value is `max`.
+const fn int_bits(max: u32) -> u32 {
+    32 - max.leading_zeros()
+}
+
+impl<P: PixelFormat> Packed<P> {
+    /// Lane widths, blue (channel 2) lowest.
+    const L: [u32; 3] = [
+        16 + int_bits(P::MAX[0]),
+        16 + int_bits(P::MAX[1]),
+        16 + int_bits(P::MAX[2]),
+    ];
+    /// Lane offsets: blue at 0, green above it, red on top.
+    const OFF: [u32; 3] = [Self::L[2] + Self::L[1], Self::L[2], 0];
+    /// True when the three lanes fit one `u64` and the format has three channels.
+    const FITS: bool = !P::GRAY && Self::L[0] + Self::L[1] + Self::L[2] <= 64;
+
+    /// The packed start and increment of a span of `n` pixels, or `None` if the
+    /// span takes the scalar loop.
+    #[inline(always)]
+    fn start(v: [i32; ATTRS], g: &[i32; ATTRS], n: usize) -> Option<(u64, u64)> {
+        if !Self::FITS || n < 2 {
+            return None;
+        }
+        // n ≤ 4096 (the guard band), |g| < 2^31: |(n − 1)·g| < 2^43 fits i64.
+        let last = (n - 1) as i64;
+        let mut p = 0u64;
+        let mut d = 0u64;
+        for k in 0..3 {
+            let (a, e) = (v[k] as i64, v[k] as i64 + last * g[k] as i64);
+            let lim = 1i64 << Self::L[k];
+            if a < 0 || a >= lim || e < 0 || e >= lim {
+                return None;
+            }
+            // Modulo 2^64 by design: the sum of the shifted lanes is exact mod 2^64.
+            p = p.wrapping_add((a as u64) << Self::OFF[k]);
+            d = d.wrapping_add((g[k] as i64 as u64) << Self::OFF[k]);
+        }
+        Some((p, d))
+    }
+
+    /// The pixel of a packed register: each lane's integer bits.
+    #[inline(always)]
+    fn pack(c: u64) -> P::Raw {
+        let ch = |k: usize| ((c >> (Self::OFF[k] + 16)) as u32) & ((1 << int_bits(P::MAX[k])) - 1);
+        P::pack(ch(0), ch(1), ch(2))
+    }
+}
+
 /// The pixel stage: writes `color.len()` pixels starting from values `v`, stepping
 /// by `g` per pixel (wrapping adds: exact modulo 2³², see `setup`). The attributes are
 /// held in separate scalars so the loop keeps them in registers.
@@ -166,6 +231,26 @@ pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
     let [mut r, mut gg, mut b, mut z] = v;
     let [dr, dg, db, dz] = *g;
     if Sh::INTERPOLATE {
+        if let Some((mut c3, d3)) = Packed::<P>::start(v, g, color.len()) {
+            let mut z = z;
+            if Z::TEST {
+                for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
+                    let zz = depth_of(z);
+                    if zz < *d {
+                        *d = zz;
+                        P::store(c, Packed::<P>::pack(c3));
+                    }
+                    c3 = c3.wrapping_add(d3);
+                    z = z.wrapping_add(dz);
+                }
+            } else {
+                for c in color.iter_mut() {
+                    P::store(c, Packed::<P>::pack(c3));
+                    c3 = c3.wrapping_add(d3);
+                }
+            }
+            return;
+        }
         if Z::TEST {
             for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
                 let zz = depth_of(z);
