@@ -177,6 +177,91 @@ pub trait Divide {
     /// n_max` and `1 ≤ k ≤ k_max` (`k_max` clamped by [`clamp_k`]), in units of the
     /// last bit of `n`. This is the exact maximum, attained by some `(n, k)`.
     fn max_error(n_max: u32, k_max: u32) -> u32;
+    /// True only for [`Exact`]: a pipeline stage with a full-precision division of
+    /// its own (the classic span's rational width, the setup's `2⁶²/|det|`,
+    /// Schlick's Q.30 denominator) keeps it, so the default renders bit-identically
+    /// to the pipeline before the seam. Every other variant goes through
+    /// [`wide_recip`].
+    const EXACT: bool = false;
+    /// Mantissa bits `b` (clamped to `1..=12`) of a wide divisor in [`wide_recip`]: the divisor is
+    /// rounded to `b` significant bits before [`Divide::recip`] sees it. 12 (the
+    /// seam's `1..=4096`) by default; the shift-and-add variants take
+    /// `⌊(N + 1)/2⌋`, which balances the mantissa's rounding (`2^−b` relative)
+    /// against the expansion's (`2^(b−N)`).
+    fn mantissa_bits() -> u32 {
+        12
+    }
+}
+
+/// A reciprocal of a wide divisor `d` taken through the seam:
+/// `1/d ≈ r / 2^(30 + shift)`. See [`wide_recip`].
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct WideRecip {
+    /// `≈ 2³⁰/k` for the mantissa `k` of `d`, in `1..=2³⁰`.
+    pub r: u32,
+    /// `d ≈ k·2^shift`.
+    pub shift: u32,
+}
+
+impl WideRecip {
+    /// `≈ 2^p / d`, at least 1: `r·2^(p − 30 − shift)`, truncated when the shift is
+    /// to the right. `r ≤ 2³⁰`, so the result is below `2^p` and fits `u128` for
+    /// `p ≤ 127`.
+    ///
+    /// ```
+    /// use fixshade::divide::{wide_recip, Table};
+    /// assert_eq!(wide_recip::<Table>(1 << 20).scaled(62), 1 << 42);
+    /// ```
+    #[inline]
+    pub fn scaled(&self, p: u32) -> u128 {
+        let r = self.r as u128;
+        let q = if p >= 30 + self.shift {
+            r << (p - 30 - self.shift)
+        } else {
+            r >> (30 + self.shift - p)
+        };
+        q.max(1)
+    }
+}
+
+/// The reciprocal of a wide divisor `d ≥ 1` (a span width in sub-pixel units, a
+/// triangle's determinant, Schlick's denominator) through `D`: `d` is rounded to a
+/// mantissa `k` of [`Divide::mantissa_bits`] bits and a shift, `d ≈ k·2^shift`
+/// (`d` itself when it is that short), and `r = D::div(2³⁰, D::recip(k))`. Then
+/// `1/d ≈ r / 2^(30 + shift)`: one division on the seam per wide divisor, and
+/// multiplies by `r` for every numerator.
+///
+/// Error, relative: the mantissa is off by at most `2^−b` (half a unit in its last
+/// bit against `k ≥ 2^(b−1)`), and `r` by at most `(E + 1)·k/2³⁰` with
+/// `E = D::max_error(2³⁰, 2^b)` (the `+ 1` is the floor of the exact quotient).
+/// `d = 0` is treated as 1.
+///
+/// ```
+/// use fixshade::divide::{wide_recip, ShiftAdd, Table};
+/// let w = wide_recip::<Table>(3 << 20); // 3·2^20 = 3072·2^10
+/// assert_eq!((w.r, w.shift), ((1 << 30) / 3072, 10));
+/// let w = wide_recip::<Table>(7); // short: exact mantissa
+/// assert_eq!((w.r, w.shift), ((1 << 30) / 7, 0));
+/// let w = wide_recip::<ShiftAdd<8>>(1000); // 4-bit mantissa: 1000 ≈ 16·2^6
+/// assert_eq!((w.r, w.shift), ((1 << 30) / 16, 6));
+/// ```
+#[inline]
+pub fn wide_recip<D: Divide>(d: u128) -> WideRecip {
+    let b = D::mantissa_bits().clamp(1, 12);
+    let d = if d == 0 { 1 } else { d };
+    let bits = 128 - d.leading_zeros();
+    let (k, shift) = if bits <= b {
+        (d as u32, 0)
+    } else {
+        let s = bits - b;
+        // Rounded to nearest: d >> (s − 1) < 2^(b + 1), so k ≤ 2^b ≤ 4096 (it
+        // reaches 2^b when d rounds up).
+        (((d >> (s - 1)) as u32).div_ceil(2), s)
+    };
+    // 2^30 fits i32; every variant's quotient of a positive numerator is in
+    // [0, 2^30]. At least 1, so a reciprocal never loses its sign.
+    let r = D::div(1 << 30, &D::recip(k)).max(1) as u32;
+    WideRecip { r, shift }
 }
 
 /// Applies the sign of `n` to the magnitude `q ≤ 2³¹` (`q = 2³¹` only for
@@ -220,6 +305,7 @@ impl Exact {
 
 impl Divide for Exact {
     const NAME: &'static str = "exact";
+    const EXACT: bool = true;
     type Recip = u32;
     #[inline]
     fn recip(k: u32) -> u32 {
@@ -607,6 +693,9 @@ impl<const N: u32> Divide for ShiftAdd<N> {
         let () = Self::VALID_N;
         SHIFT_ADD_NAMES[N as usize]
     };
+    fn mantissa_bits() -> u32 {
+        (N + 1) / 2
+    }
     type Recip = u32;
     #[inline]
     fn recip(k: u32) -> u32 {
@@ -628,6 +717,9 @@ impl<const N: u32> Divide for ShiftAddRounded<N> {
         let () = Self::VALID_N;
         SHIFT_ADD_ROUNDED_NAMES[N as usize]
     };
+    fn mantissa_bits() -> u32 {
+        (N + 1) / 2
+    }
     type Recip = u32;
     #[inline]
     fn recip(k: u32) -> u32 {

@@ -48,7 +48,7 @@ fn frame<S: SpanMethod>(
 /// The span methods compared; the first is the baseline of the ratio column. To
 /// add a method, add a line.
 const METHODS: &[(&str, FrameFn)] = &[
-    (Classic::NAME, frame::<Classic>),
+    (<Classic>::NAME, frame::<Classic>),
     (Gradient::NAME, frame::<Gradient>),
     (EvenOdd::NAME, frame::<EvenOdd>),
     (KWay::<2>::NAME, frame::<KWay<2>>),
