@@ -105,6 +105,28 @@
 //! one step: for the seed's typical `k ≤ 16` that is `N ≥ 11` truncated, `N ≥ 10`
 //! rounded.
 //!
+//! # In the pipeline
+//!
+//! The pipeline divides in three places, each generic over `D`, chosen once per
+//! draw: the `classic` span method's per-span division
+//! ([`crate::raster::span::Classic`]`<D>`), the triangle setup's reciprocal of the
+//! determinant ([`crate::raster::span::WithDivide`]`<S, D>` around any span method),
+//! and Schlick's denominators ([`crate::specular::Schlick`]`<D>`,
+//! [`crate::specular::SchlickModified`]`<D>`). Perspective division does not exist
+//! yet. Their divisors are wide (a span width in units of `1/(d_L·d_R)` pixel, up
+//! to 2⁵⁶; a determinant up to 2³⁵; a Q.30 denominator up to 2⁴¹), so they reach
+//! the seam through [`wide_recip`]: a mantissa of `b` bits, one `recip`/`div` of
+//! `2³⁰`, then multiplies.
+//!
+//! The default `D` is [`Exact`], and [`Divide::EXACT`] keeps each stage's own
+//! full-precision division then (`classic`'s two Q.40 divisions of the rational
+//! width, the setup's `⌊2⁶²/|det|⌋`, Schlick's rounded 64-bit quotient): the
+//! default pipeline renders bit-identically to the pipeline before the seam. Every
+//! other variant, [`Table`] included, pays the mantissa's rounding (`2^(1−b)`
+//! relative, `2⁻¹¹` for `b = 12`) on top of its own error, so `table` in the
+//! pipeline is not bit-identical to `exact` even though the two agree on every
+//! `n / k` of the seam.
+//!
 //! # The seed's figures
 //!
 //! Seed 002 gives, for `k = 7` and `N = 6`, `255·(1/8 + 1/64) = 35.8594` against
@@ -184,7 +206,7 @@ pub trait Divide {
     /// [`wide_recip`].
     const EXACT: bool = false;
     /// Mantissa bits `b` (clamped to `1..=12`) of a wide divisor in [`wide_recip`]: the divisor is
-    /// rounded to `b` significant bits before [`Divide::recip`] sees it. 12 (the
+    /// rounded up to `b` significant bits before [`Divide::recip`] sees it. 12 (the
     /// seam's `1..=4096`) by default; the shift-and-add variants take
     /// `⌊(N + 1)/2⌋`, which balances the mantissa's rounding (`2^−b` relative)
     /// against the expansion's (`2^(b−N)`).
@@ -197,9 +219,9 @@ pub trait Divide {
 /// `1/d ≈ r / 2^(30 + shift)`. See [`wide_recip`].
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct WideRecip {
-    /// `≈ 2³⁰/k` for the mantissa `k` of `d`, in `1..=2³⁰`.
+    /// `≈ 2³⁰/k` (never above) for the mantissa `k` of `d`, in `1..=2³⁰`.
     pub r: u32,
-    /// `d ≈ k·2^shift`.
+    /// `d ≤ k·2^shift`.
     pub shift: u32,
 }
 
@@ -225,16 +247,19 @@ impl WideRecip {
 }
 
 /// The reciprocal of a wide divisor `d ≥ 1` (a span width in sub-pixel units, a
-/// triangle's determinant, Schlick's denominator) through `D`: `d` is rounded to a
-/// mantissa `k` of [`Divide::mantissa_bits`] bits and a shift, `d ≈ k·2^shift`
-/// (`d` itself when it is that short), and `r = D::div(2³⁰, D::recip(k))`. Then
-/// `1/d ≈ r / 2^(30 + shift)`: one division on the seam per wide divisor, and
-/// multiplies by `r` for every numerator.
+/// triangle's determinant, Schlick's denominator) through `D`: `d` is rounded up to
+/// a mantissa `k` of [`Divide::mantissa_bits`] bits and a shift, `d ≤ k·2^shift`
+/// (`d` itself when it is that short), and `r = D::div(2³⁰, D::recip(k))`, cut
+/// back to at most `2³⁰/k` if `D` over-estimates (the rounded expansion does for
+/// some `k`). Then `1/d ≈ r / 2^(30 + shift)`: one division on the seam per wide
+/// divisor, and multiplies by `r` for every numerator.
 ///
-/// Error, relative: the mantissa is off by at most `2^−b` (half a unit in its last
-/// bit against `k ≥ 2^(b−1)`), and `r` by at most `(E + 1)·k/2³⁰` with
-/// `E = D::max_error(2³⁰, 2^b)` (the `+ 1` is the floor of the exact quotient).
-/// `d = 0` is treated as 1.
+/// The result **never over-estimates** `1/d`, so an interpolation `I_0 + ρ·(I_1 −
+/// I_0)·x` with `x·(1/d) ≤ 1` stays between `I_0` and `I_1`: the pipeline needs
+/// no clamping. Error, relative, at most `η = 2^(1−b) + (2E + 2)·2^b/2³⁰`: the
+/// mantissa is off by less than one unit in its last bit against `k ≥ 2^(b−1)`,
+/// and `r` by at most `2E + 2` units with `E = D::max_error(2³⁰, 2^b)` (the floor
+/// of the exact quotient, and the cut-back). `d = 0` is treated as 1.
 ///
 /// ```
 /// use fixshade::divide::{wide_recip, ShiftAdd, Table};
@@ -242,7 +267,7 @@ impl WideRecip {
 /// assert_eq!((w.r, w.shift), ((1 << 30) / 3072, 10));
 /// let w = wide_recip::<Table>(7); // short: exact mantissa
 /// assert_eq!((w.r, w.shift), ((1 << 30) / 7, 0));
-/// let w = wide_recip::<ShiftAdd<8>>(1000); // 4-bit mantissa: 1000 ≈ 16·2^6
+/// let w = wide_recip::<ShiftAdd<8>>(1000); // 4-bit mantissa: 1000 ≤ 16·2^6
 /// assert_eq!((w.r, w.shift), ((1 << 30) / 16, 6));
 /// ```
 #[inline]
@@ -254,14 +279,21 @@ pub fn wide_recip<D: Divide>(d: u128) -> WideRecip {
         (d as u32, 0)
     } else {
         let s = bits - b;
-        // Rounded to nearest: d >> (s − 1) < 2^(b + 1), so k ≤ 2^b ≤ 4096 (it
-        // reaches 2^b when d rounds up).
-        (((d >> (s - 1)) as u32).div_ceil(2), s)
+        // Rounded up: (d − 1) >> s < 2^b, so k ≤ 2^b ≤ 4096.
+        ((((d - 1) >> s) + 1) as u32, s)
     };
     // 2^30 fits i32; every variant's quotient of a positive numerator is in
-    // [0, 2^30]. At least 1, so a reciprocal never loses its sign.
-    let r = D::div(1 << 30, &D::recip(k)).max(1) as u32;
-    WideRecip { r, shift }
+    // [0, 2^30].
+    let mut r = D::div(1 << 30, &D::recip(k)).max(1) as u64;
+    // k·r ≤ 2^12·2^30. An excess over 2^30 is removed with a shift by ⌊log₂ k⌋,
+    // which removes at least excess/k (at most twice that, plus one).
+    let excess = (k as u64 * r).saturating_sub(1 << 30);
+    if excess > 0 {
+        r = r
+            .saturating_sub((excess >> (31 - k.leading_zeros())) + 1)
+            .max(1);
+    }
+    WideRecip { r: r as u32, shift }
 }
 
 /// Applies the sign of `n` to the magnitude `q ≤ 2³¹` (`q = 2³¹` only for

@@ -187,7 +187,8 @@ impl SchlickParams {
 /// `Schlick<Exact>`, the rounded 64/64 division above, bit-identical to the model
 /// before the seam. Any other `D` takes [`wide_recip`] of the denominator (one
 /// division on the seam) and one multiply: `c·r / 2^shift`, rounded, capped at 1;
-/// its relative error is that of the reciprocal, `2^−b + (E + 1)·2^b/2³⁰`.
+/// the result is at most the exact one, low by at most the reciprocal's relative
+/// error `η = 2^(1−b) + (2E + 2)·2^b/2³⁰`.
 ///
 /// ```
 /// use fixshade::divide::Table;
@@ -195,7 +196,7 @@ impl SchlickParams {
 /// use fixshade::specular::{Schlick, Specular};
 /// let p = <Schlick<Table>>::prepare(Q16_16::from_int(3));
 /// let v = <Schlick<Table>>::eval(&p, 1 << 29); // 1/4 with a 12-bit denominator
-/// assert!((v - (1 << 28)).abs() <= (1 << 28) >> 11);
+/// assert!(v <= 1 << 28 && (1 << 28) - v <= (1 << 28) >> 10);
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Schlick<D: Divide = Exact>(PhantomData<D>);

@@ -128,6 +128,7 @@
 //! [render]
 //! shading = "gouraud"          # default
 //! span = "gradient"            # default
+//! divide = "exact"             # default
 //! cull = "back"                # default
 //! depth_test = true            # default
 //! perspective_correct = false  # default

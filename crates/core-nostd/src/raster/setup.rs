@@ -86,8 +86,11 @@ impl Det {
     ///
     /// The reciprocal goes through `D`: [`Exact`] keeps the full `⌊2⁶²/|det|⌋`
     /// (bit-identical to the setup before the seam); any other variant rounds
-    /// `|det|` to its mantissa and takes [`wide_recip`], relative error
-    /// `2^−b + (E + 1)·2^b/2³⁰` (see there), which every increment inherits.
+    /// `|det|` up to its mantissa and takes [`wide_recip`]: relative error at most
+    /// `η = 2^(1−b) + (2E + 2)·2^b/2³⁰` (see there), never an over-estimate. Every
+    /// increment inherits it, so a covered pixel's value moves from the exact one
+    /// towards the top vertex's by at most `η` of their difference: it stays in
+    /// range, within `η` times the triangle's attribute range of the exact value.
     fn new<D: Divide>(p: [(i32, i32); 3]) -> Option<Det> {
         let (dx1, dy1) = ((p[1].0 - p[0].0) as i64, (p[1].1 - p[0].1) as i64);
         let (dx2, dy2) = ((p[2].0 - p[0].0) as i64, (p[2].1 - p[0].1) as i64);

@@ -259,13 +259,13 @@ impl SpanMethod for Gradient {
 /// `Classic<Exact>`, which keeps the two full-precision divisions above and renders
 /// bit-identically to the method before the seam ([`Divide::EXACT`]). Any other
 /// divider takes one reciprocal of the width per span through the seam,
-/// [`wide_recip`] (`1/W ≈ ρ`, relative error `η = 2^−b + (E + 1)·2^b/2³⁰`), and
-/// derives `t = dist·ρ` and the increment `ΔI = diff·ρ` by multiplies. The value at
-/// pixel `i` of the span is then `I_L + diff·ρ·(x_i − x_L)`, off from the exact one
-/// by at most `η·|I_R − I_L|` (`x_i − x_L ≤ W`) plus the truncations above: for a
-/// colour channel `η·256` output steps. If `ρ` over-estimates so that the last
-/// pixel would pass `I_R`, `ρ` is lowered by `ρ/2^(b−1)` until it does not (a rare
-/// per-span fix-up), so every value stays between `I_L` and `I_R` and in range.
+/// [`wide_recip`] (`1/W ≈ ρ ≤ 1/W`, relative error at most
+/// `η = 2^(1−b) + (2E + 2)·2^b/2³⁰`), and derives `t = dist·ρ` and the increment
+/// `ΔI = diff·ρ` by multiplies. The value at pixel `i` of the span is then
+/// `I_L + diff·ρ·(x_i − x_L)`, between `I_L` and the exact value (`ρ` never
+/// over-estimates and `x_i − x_L ≤ W`), so it stays in range with no clamping, off
+/// by at most `η·|I_R − I_L|` plus the truncations above: `η·256` output steps for a
+/// colour channel.
 /// Coverage does not depend on `D`.
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Classic<D: Divide = Exact>(PhantomData<D>);
@@ -284,10 +284,10 @@ fn div_wide(n: u128, d: u128) -> u128 {
 /// `0 ≤ dist ≤ width < 2⁵⁶` and `unit = dl·dr < 2⁴²` (one pixel in the units of
 /// `width`).
 #[inline]
-fn seam_weights<D: Divide>(span: &Span, dist: i128, width: i128, unit: i128) -> (i128, i128) {
+fn seam_weights<D: Divide>(dist: i128, width: i128, unit: i128) -> (i128, i128) {
     let w = wide_recip::<D>(width as u128);
-    let mut r = w.r as u128; // ≤ 2^30
-                             // x·ρ in Q.40 = x·r·2^(10 − shift): x < 2^56, so x·r < 2^86 and x·r·2^10 < 2^96.
+    let r = w.r as u128; // ≤ 2^30
+                         // x·ρ in Q.40 = x·r·2^(10 − shift): x < 2^56, so x·r < 2^86 and x·r·2^10 < 2^96.
     let q40 = |x: i128, r: u128| {
         let p = x as u128 * r;
         (if w.shift <= 10 {
@@ -296,11 +296,6 @@ fn seam_weights<D: Divide>(span: &Span, dist: i128, width: i128, unit: i128) -> 
             p >> (w.shift - 10)
         }) as i128
     };
-    // The last pixel's distance from the left crossing (≤ width exactly).
-    let last = dist + (span.x1 - 1 - span.x0) as i128 * unit;
-    while r > 1 && q40(last, r) > 1 << 40 {
-        r -= (r >> (D::mantissa_bits().clamp(1, 12) - 1)).max(1);
-    }
     (q40(dist, r), q40(unit, r))
 }
 
@@ -333,7 +328,7 @@ impl<D: Divide> SpanMethod for Classic<D> {
                 div_wide(((dl * dr) as u128) << 40, width as u128) as i128,
             )
         } else {
-            seam_weights::<D>(span, dist, width, dl * dr)
+            seam_weights::<D>(dist, width, dl * dr)
         };
         let mut v = [0i32; ATTRS];
         let mut g = [0i32; ATTRS];
