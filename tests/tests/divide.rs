@@ -92,7 +92,7 @@ fn check<S: SpanMethod, E: SpanMethod, D: Divide>(what: &str, tris: &[[ScreenVer
         "{what} {}: coverage differs at {miss} pixels",
         D::NAME
     );
-    assert!(cov_e.iter().any(|p| *p == [200; 3]));
+    assert!(cov_e.contains(&[200; 3]));
 
     let (want, _) = render::<E>(tris, false);
     let (got, _) = render::<S>(tris, false);

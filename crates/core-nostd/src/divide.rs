@@ -726,7 +726,7 @@ impl<const N: u32> Divide for ShiftAdd<N> {
         SHIFT_ADD_NAMES[N as usize]
     };
     fn mantissa_bits() -> u32 {
-        (N + 1) / 2
+        N.div_ceil(2)
     }
     type Recip = u32;
     #[inline]
@@ -750,7 +750,7 @@ impl<const N: u32> Divide for ShiftAddRounded<N> {
         SHIFT_ADD_ROUNDED_NAMES[N as usize]
     };
     fn mantissa_bits() -> u32 {
-        (N + 1) / 2
+        N.div_ceil(2)
     }
     type Recip = u32;
     #[inline]
