@@ -165,8 +165,7 @@ impl Config {
         match self.kind {
             Kind::Span => self.span.name().to_string(),
             Kind::Shading => self.shading.name().to_string(),
-            Kind::Divide => format!("classic {}", self.divide.name()),
-            Kind::Setup => format!("setup {}", self.divide.name()),
+            Kind::Divide | Kind::Setup => self.divide.name().to_string(),
             Kind::Specular => format!("{} n={}", self.specular.name(), self.shininess),
         }
     }
