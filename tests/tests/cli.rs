@@ -59,6 +59,8 @@ fn help_and_list() {
         "phong",
         "schlick-mod",
         "cos-quad-energy",
+        "shift-add-rounded-16",
+        "table",
     ] {
         assert!(l.contains(w), "list does not mention {w}: {l}");
     }
@@ -95,6 +97,16 @@ fn bad_usage_exits_2() {
         "valid span methods not listed: {m}"
     );
     expect_err(&["render", "sphere", "-o", o, "--span"], 2, &["--span"]);
+    let m = expect_err(
+        &["render", "sphere", "-o", o, "--divide", "shift-add-17"],
+        2,
+        &["divider", "shift-add-17"],
+    );
+    assert!(
+        m.contains("shift-add-16") && m.contains("table") && m.contains("shift-add-rounded-4"),
+        "valid dividers not listed: {m}"
+    );
+    expect_err(&["render", "sphere", "-o", o, "--divide"], 2, &["--divide"]);
     expect_err(
         &["render", "sphere", "-o", o, "--format", "rgb555"],
         2,

@@ -105,6 +105,28 @@
 //! one step: for the seed's typical `k ≤ 16` that is `N ≥ 11` truncated, `N ≥ 10`
 //! rounded.
 //!
+//! # In the pipeline
+//!
+//! The pipeline divides in three places, each generic over `D`, chosen once per
+//! draw: the `classic` span method's per-span division
+//! ([`crate::raster::span::Classic`]`<D>`), the triangle setup's reciprocal of the
+//! determinant ([`crate::raster::span::WithDivide`]`<S, D>` around any span method),
+//! and Schlick's denominators ([`crate::specular::Schlick`]`<D>`,
+//! [`crate::specular::SchlickModified`]`<D>`). Perspective division does not exist
+//! yet. Their divisors are wide (a span width in units of `1/(d_L·d_R)` pixel, up
+//! to 2⁵⁶; a determinant up to 2³⁵; a Q.30 denominator up to 2⁴¹), so they reach
+//! the seam through [`wide_recip`]: a mantissa of `b` bits, one `recip`/`div` of
+//! `2³⁰`, then multiplies.
+//!
+//! The default `D` is [`Exact`], and [`Divide::EXACT`] keeps each stage's own
+//! full-precision division then (`classic`'s two Q.40 divisions of the rational
+//! width, the setup's `⌊2⁶²/|det|⌋`, Schlick's rounded 64-bit quotient): the
+//! default pipeline renders bit-identically to the pipeline before the seam. Every
+//! other variant, [`Table`] included, pays the mantissa's rounding (`2^(1−b)`
+//! relative, `2⁻¹¹` for `b = 12`) on top of its own error, so `table` in the
+//! pipeline is not bit-identical to `exact` even though the two agree on every
+//! `n / k` of the seam.
+//!
 //! # The seed's figures
 //!
 //! Seed 002 gives, for `k = 7` and `N = 6`, `255·(1/8 + 1/64) = 35.8594` against
@@ -177,6 +199,101 @@ pub trait Divide {
     /// n_max` and `1 ≤ k ≤ k_max` (`k_max` clamped by [`clamp_k`]), in units of the
     /// last bit of `n`. This is the exact maximum, attained by some `(n, k)`.
     fn max_error(n_max: u32, k_max: u32) -> u32;
+    /// True only for [`Exact`]: a pipeline stage with a full-precision division of
+    /// its own (the classic span's rational width, the setup's `2⁶²/|det|`,
+    /// Schlick's Q.30 denominator) keeps it, so the default renders bit-identically
+    /// to the pipeline before the seam. Every other variant goes through
+    /// [`wide_recip`].
+    const EXACT: bool = false;
+    /// Mantissa bits `b` (clamped to `1..=12`) of a wide divisor in [`wide_recip`]: the divisor is
+    /// rounded up to `b` significant bits before [`Divide::recip`] sees it. 12 (the
+    /// seam's `1..=4096`) by default; the shift-and-add variants take
+    /// `⌊(N + 1)/2⌋`, which balances the mantissa's rounding (`2^−b` relative)
+    /// against the expansion's (`2^(b−N)`).
+    fn mantissa_bits() -> u32 {
+        12
+    }
+}
+
+/// A reciprocal of a wide divisor `d` taken through the seam:
+/// `1/d ≈ r / 2^(30 + shift)`. See [`wide_recip`].
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct WideRecip {
+    /// `≈ 2³⁰/k` (never above) for the mantissa `k` of `d`, in `1..=2³⁰`.
+    pub r: u32,
+    /// `d ≤ k·2^shift`.
+    pub shift: u32,
+}
+
+impl WideRecip {
+    /// `≈ 2^p / d`, at least 1: `r·2^(p − 30 − shift)`, truncated when the shift is
+    /// to the right. `r ≤ 2³⁰`, so the result is below `2^p` and fits `u128` for
+    /// `p ≤ 127`.
+    ///
+    /// ```
+    /// use fixshade::divide::{wide_recip, Table};
+    /// assert_eq!(wide_recip::<Table>(1 << 20).scaled(62), 1 << 42);
+    /// ```
+    #[inline]
+    pub fn scaled(&self, p: u32) -> u128 {
+        let r = self.r as u128;
+        let q = if p >= 30 + self.shift {
+            r << (p - 30 - self.shift)
+        } else {
+            r >> (30 + self.shift - p)
+        };
+        q.max(1)
+    }
+}
+
+/// The reciprocal of a wide divisor `d ≥ 1` (a span width in sub-pixel units, a
+/// triangle's determinant, Schlick's denominator) through `D`: `d` is rounded up to
+/// a mantissa `k` of [`Divide::mantissa_bits`] bits and a shift, `d ≤ k·2^shift`
+/// (`d` itself when it is that short), and `r = D::div(2³⁰, D::recip(k))`, cut
+/// back to at most `2³⁰/k` if `D` over-estimates (the rounded expansion does for
+/// some `k`). Then `1/d ≈ r / 2^(30 + shift)`: one division on the seam per wide
+/// divisor, and multiplies by `r` for every numerator.
+///
+/// The result **never over-estimates** `1/d`, so an interpolation `I_0 + ρ·(I_1 −
+/// I_0)·x` with `x·(1/d) ≤ 1` stays between `I_0` and `I_1`: the pipeline needs
+/// no clamping. Error, relative, at most `η = 2^(1−b) + (2E + 2)·2^b/2³⁰`: the
+/// mantissa is off by less than one unit in its last bit against `k ≥ 2^(b−1)`,
+/// and `r` by at most `2E + 2` units with `E = D::max_error(2³⁰, 2^b)` (the floor
+/// of the exact quotient, and the cut-back). `d = 0` is treated as 1.
+///
+/// ```
+/// use fixshade::divide::{wide_recip, ShiftAdd, Table};
+/// let w = wide_recip::<Table>(3 << 20); // 3·2^20 = 3072·2^10
+/// assert_eq!((w.r, w.shift), ((1 << 30) / 3072, 10));
+/// let w = wide_recip::<Table>(7); // short: exact mantissa
+/// assert_eq!((w.r, w.shift), ((1 << 30) / 7, 0));
+/// let w = wide_recip::<ShiftAdd<8>>(1000); // 4-bit mantissa: 1000 ≤ 16·2^6
+/// assert_eq!((w.r, w.shift), ((1 << 30) / 16, 6));
+/// ```
+#[inline]
+pub fn wide_recip<D: Divide>(d: u128) -> WideRecip {
+    let b = D::mantissa_bits().clamp(1, 12);
+    let d = if d == 0 { 1 } else { d };
+    let bits = 128 - d.leading_zeros();
+    let (k, shift) = if bits <= b {
+        (d as u32, 0)
+    } else {
+        let s = bits - b;
+        // Rounded up: (d − 1) >> s < 2^b, so k ≤ 2^b ≤ 4096.
+        ((((d - 1) >> s) + 1) as u32, s)
+    };
+    // 2^30 fits i32; every variant's quotient of a positive numerator is in
+    // [0, 2^30].
+    let mut r = D::div(1 << 30, &D::recip(k)).max(1) as u64;
+    // k·r ≤ 2^12·2^30. An excess over 2^30 is removed with a shift by ⌊log₂ k⌋,
+    // which removes at least excess/k (at most twice that, plus one).
+    let excess = (k as u64 * r).saturating_sub(1 << 30);
+    if excess > 0 {
+        r = r
+            .saturating_sub((excess >> (31 - k.leading_zeros())) + 1)
+            .max(1);
+    }
+    WideRecip { r: r as u32, shift }
 }
 
 /// Applies the sign of `n` to the magnitude `q ≤ 2³¹` (`q = 2³¹` only for
@@ -220,6 +337,7 @@ impl Exact {
 
 impl Divide for Exact {
     const NAME: &'static str = "exact";
+    const EXACT: bool = true;
     type Recip = u32;
     #[inline]
     fn recip(k: u32) -> u32 {
@@ -607,6 +725,9 @@ impl<const N: u32> Divide for ShiftAdd<N> {
         let () = Self::VALID_N;
         SHIFT_ADD_NAMES[N as usize]
     };
+    fn mantissa_bits() -> u32 {
+        N.div_ceil(2)
+    }
     type Recip = u32;
     #[inline]
     fn recip(k: u32) -> u32 {
@@ -628,6 +749,9 @@ impl<const N: u32> Divide for ShiftAddRounded<N> {
         let () = Self::VALID_N;
         SHIFT_ADD_ROUNDED_NAMES[N as usize]
     };
+    fn mantissa_bits() -> u32 {
+        N.div_ceil(2)
+    }
     type Recip = u32;
     #[inline]
     fn recip(k: u32) -> u32 {

@@ -50,8 +50,8 @@
 //! use fixshade::specular::{CosQuadratic, Schlick, Specular};
 //! let n = Q16_16::from_int(50);
 //! let one = 1 << 30;
-//! let p = Schlick::prepare(n);
-//! assert_eq!(Schlick::eval(&p, one), one);
+//! let p = <Schlick>::prepare(n);
+//! assert_eq!(<Schlick>::eval(&p, one), one);
 //! let q = CosQuadratic::prepare(n);
 //! assert_eq!(CosQuadratic::eval(&q, one / 2), 0); // far outside the highlight
 //! assert!(CosQuadratic::eval(&q, one - (one >> 8)) > one / 2);
@@ -72,9 +72,11 @@
 //! assert_eq!(lit, [1 << 16; 3]); // N = L = H: full diffuse plus full highlight, clamped
 //! ```
 
+use crate::divide::{wide_recip, Divide, Exact};
 use crate::fixed::Q16_16;
 pub use crate::light::{BlinnExact, Specular};
 use crate::math::isqrt_u128;
+use core::marker::PhantomData;
 
 /// The scene-file and CLI names of the six models, in the order of the seam table
 /// in DESIGN.md: `exact` ([`BlinnExact`]), then the `NAME` of [`Schlick`],
@@ -142,7 +144,7 @@ fn zero_from(p: u32, frac: u32) -> u32 {
 /// ```
 /// use fixshade::fixed::Q16_16;
 /// use fixshade::specular::{Schlick, Specular};
-/// assert_eq!(Schlick::prepare(Q16_16::from_int(5000)).n(), Q16_16::from_int(1000));
+/// assert_eq!(<Schlick>::prepare(Q16_16::from_int(5000)).n(), Q16_16::from_int(1000));
 /// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct SchlickParams {
@@ -156,7 +158,7 @@ impl SchlickParams {
     /// ```
     /// use fixshade::fixed::Q16_16;
     /// use fixshade::specular::{SchlickModified, Specular};
-    /// assert_eq!(SchlickModified::prepare(Q16_16::ZERO).n(), Q16_16::ONE);
+    /// assert_eq!(<SchlickModified>::prepare(Q16_16::ZERO).n(), Q16_16::ONE);
     /// ```
     pub const fn n(&self) -> Q16_16 {
         Q16_16::from_bits(self.n as i32)
@@ -175,13 +177,43 @@ impl SchlickParams {
 /// ```
 /// use fixshade::fixed::Q16_16;
 /// use fixshade::specular::{Schlick, Specular};
-/// let p = Schlick::prepare(Q16_16::from_int(3));
+/// let p = <Schlick>::prepare(Q16_16::from_int(3));
 /// // c = 1/2: 0.5 / (3 − 1.5 + 0.5) = 1/4.
-/// assert_eq!(Schlick::eval(&p, 1 << 29), 1 << 28);
+/// assert_eq!(<Schlick>::eval(&p, 1 << 29), 1 << 28);
 /// assert_eq!(Schlick::NAME, "schlick");
 /// ```
+///
+/// The denominator goes through a divider `D` ([`crate::divide`]): `Schlick` is
+/// `Schlick<Exact>`, the rounded 64/64 division above, bit-identical to the model
+/// before the seam. Any other `D` takes [`wide_recip`] of the denominator (one
+/// division on the seam) and one multiply: `c·r / 2^shift`, rounded, capped at 1;
+/// the result is at most the exact one, low by at most the reciprocal's relative
+/// error `η = 2^(1−b) + (2E + 2)·2^b/2³⁰`.
+///
+/// ```
+/// use fixshade::divide::Table;
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::specular::{Schlick, Specular};
+/// let p = <Schlick<Table>>::prepare(Q16_16::from_int(3));
+/// let v = <Schlick<Table>>::eval(&p, 1 << 29); // 1/4 with a 12-bit denominator
+/// assert!(v <= 1 << 28 && (1 << 28) - v <= (1 << 28) >> 10);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
-pub struct Schlick;
+pub struct Schlick<D: Divide = Exact>(PhantomData<D>);
+
+/// `c·2³⁰ / den` (Q.30, `c ≤ den`, `2³⁰ ≤ den < 2⁴¹`), rounded: exactly for
+/// [`Exact`], through [`wide_recip`] otherwise, capped at 2³⁰.
+#[inline]
+fn schlick_div<D: Divide>(c: u64, den: u64) -> i32 {
+    if D::EXACT {
+        // c·2^30 ≤ 2^60; c ≤ den, so the rounded quotient is ≤ 2^30.
+        return (((c << 30) + den / 2) / den) as i32;
+    }
+    let w = wide_recip::<D>(den as u128);
+    // den ≥ 2^30 and the mantissa has at most 12 bits, so shift ≥ 19; c·r ≤ 2^60.
+    let q = (c * w.r as u64 + (1 << (w.shift - 1))) >> w.shift;
+    q.min(ONE) as i32
+}
 
 impl Schlick {
     /// Name in scene files and on the command line.
@@ -192,7 +224,7 @@ impl Schlick {
     pub const NAME: &'static str = "schlick";
 }
 
-impl Specular for Schlick {
+impl<D: Divide> Specular for Schlick<D> {
     type Params = SchlickParams;
 
     /// Clamps `n` to [1, 1000].
@@ -206,8 +238,7 @@ impl Specular for Schlick {
         // n < 2^26 (Q16.16), d ≤ 2^30: n·d < 2^56. The rounded Q.30 quotient is ≥ d
         // because n ≥ 2^16, so den ≥ d + c = 2^30 > 0, and den < 1001·2^30 < 2^40.
         let den = ((p.n as u64 * d + (1 << 15)) >> 16) + c;
-        // c·2^30 ≤ 2^60; c ≤ den, so the rounded quotient is ≤ 2^30.
-        (((c << 30) + den / 2) / den) as i32
+        schlick_div::<D>(c, den)
     }
 }
 
@@ -225,14 +256,17 @@ impl Specular for Schlick {
 /// ```
 /// use fixshade::fixed::Q16_16;
 /// use fixshade::specular::{SchlickModified, Specular};
-/// let p = SchlickModified::prepare(Q16_16::from_int(2));
+/// let p = <SchlickModified>::prepare(Q16_16::from_int(2));
 /// // c = 1/2: 0.5 / (0.5·2·0.75 + 2 − 1 + 0.5) = 0.5 / 2.25 = 2/9.
-/// let v = SchlickModified::eval(&p, 1 << 29) as i64;
+/// let v = <SchlickModified>::eval(&p, 1 << 29) as i64;
 /// assert!((v - (2i64 << 30) / 9).abs() <= 1);
-/// assert_eq!(SchlickModified::eval(&p, 1 << 30), 1 << 30);
+/// assert_eq!(<SchlickModified>::eval(&p, 1 << 30), 1 << 30);
 /// ```
+///
+/// The denominator goes through a divider `D` exactly as in [`Schlick`];
+/// `SchlickModified` is `SchlickModified<Exact>`.
 #[derive(Copy, Clone, Debug, Default)]
-pub struct SchlickModified;
+pub struct SchlickModified<D: Divide = Exact>(PhantomData<D>);
 
 impl SchlickModified {
     /// Name in scene files and on the command line.
@@ -243,7 +277,7 @@ impl SchlickModified {
     pub const NAME: &'static str = "schlick-mod";
 }
 
-impl Specular for SchlickModified {
+impl<D: Divide> Specular for SchlickModified<D> {
     type Params = SchlickParams;
 
     /// Clamps `n` to [1, 1000].
@@ -260,8 +294,7 @@ impl Specular for SchlickModified {
         // n < 2^26, m < 2^37: n·m < 2^63 (Q.52). den ≥ d + c = 2^30 (n ≥ 1, m ≥ d·2^6)
         // and den < 1501·2^30 < 2^41.
         let den = ((p.n as u64 * m + (1 << 21)) >> 22) + c;
-        // c·2^30 ≤ 2^60; c ≤ den, so the rounded quotient is ≤ 2^30.
-        (((c << 30) + den / 2) / den) as i32
+        schlick_div::<D>(c, den)
     }
 }
 
@@ -930,9 +963,9 @@ mod tests {
         let ninth = run::<CosQuadratic>(n1, &[0])[0];
         assert!((ninth - (1 << 30) / 9).abs() <= 40); // σ = 2/3 rounded to Q9.23
                                                       // Out-of-range c is clamped to [0, 1].
-        let p = Schlick::prepare(Q16_16::from_int(8));
-        assert_eq!(Schlick::eval(&p, -5), 0);
-        assert_eq!(Schlick::eval(&p, i32::MAX), one);
+        let p = <Schlick>::prepare(Q16_16::from_int(8));
+        assert_eq!(<Schlick>::eval(&p, -5), 0);
+        assert_eq!(<Schlick>::eval(&p, i32::MAX), one);
     }
 
     #[test]
@@ -1031,8 +1064,8 @@ mod tests {
             }
         }
         // n = 1000, one LSB below 1: Schlick = c/(1000·2^-30 + c) ≈ 1 − 999·2^-30.
-        let p = Schlick::prepare(Q16_16::from_int(1000));
-        assert_eq!(Schlick::eval(&p, one - 1), one - 1000);
+        let p = <Schlick>::prepare(Q16_16::from_int(1000));
+        assert_eq!(<Schlick>::eval(&p, one - 1), one - 1000);
         // cos-quad: σ = 1001/3, (1 − σ·2^-30)² ≈ 1 − 2σ·2^-30.
         let p = CosQuadratic::prepare(Q16_16::from_int(1000));
         assert!((CosQuadratic::eval(&p, one - 1) - (one - 667)).abs() <= 1);

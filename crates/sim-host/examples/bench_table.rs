@@ -55,7 +55,7 @@ fn frame<S: SpanMethod>(
 /// The methods compared, with the shading each runs under; the first two are the
 /// baselines of the ratio columns. To add a method, add a line.
 const METHODS: &[(&str, FrameFn, ShadingMode)] = &[
-    (Classic::NAME, frame::<Classic>, ShadingMode::Gouraud),
+    (<Classic>::NAME, frame::<Classic>, ShadingMode::Gouraud),
     (Gradient::NAME, frame::<Gradient>, ShadingMode::Gouraud),
     (EvenOdd::NAME, frame::<EvenOdd>, ShadingMode::Gouraud),
     (KWay::<2>::NAME, frame::<KWay<2>>, ShadingMode::Gouraud),
@@ -145,7 +145,7 @@ fn main() {
             .position(|&k| METHODS[k].0 == name)
             .unwrap_or(0)
     };
-    let (b_classic, b_gradient) = (base_of(Classic::NAME), base_of(Gradient::NAME));
+    let (b_classic, b_gradient) = (base_of(<Classic>::NAME), base_of(Gradient::NAME));
     let m = chosen.len();
     println!(
         "bench-sphere: median of {frames} frames per method, methods interleaved, \

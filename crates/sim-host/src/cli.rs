@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use crate::compare::compare;
-use crate::desc::{FormatName, Named, ShadingName, SpanName, SpecularName};
+use crate::desc::{DivideName, FormatName, Named, ShadingName, SpanName, SpecularName};
 use crate::image::Image;
 use crate::pipeline::{self, LoadedScene};
 
@@ -15,7 +15,8 @@ USAGE:
     fixshade                      render the demo figures (sphere, teapot, robot)
                                   into out/ and print a table against the f64 reference
     fixshade render SCENE [-o OUT.png] [--span METHOD] [--shading MODE] [--format FMT]
-                                  [--specular MODEL] [--strip ROWS] [--segment L] [--threshold K]
+                                  [--specular MODEL] [--divide DIV] [--strip ROWS] [--segment L]
+                                  [--threshold K]
                                   render with the fixed-point core (OUT defaults to
                                   out/SCENE.png); prints the draw statistics
     fixshade reference SCENE -o OUT.png [--phong]
@@ -35,12 +36,12 @@ USAGE:
                                   time: DIR/specular.{md,csv}, DIR/specular-reflectance.png
                                   (DIR: docs/, or out/specular-quick/ with --quick)
     fixshade list                 built-in scenes, span methods, shading modes,
-                                  specular models, formats
+                                  specular models, dividers, formats
     fixshade help                 this text
 
 SCENE is a scene file (TOML, see docs/scene-files.md) or a built-in scene: sphere,
 teapot, robot, bench-sphere, spheres-plane. Options override the scene file; `fixshade list` names
-every METHOD, MODE, MODEL and FMT with a line on each. `fixshade COMMAND --help`
+every METHOD, MODE, MODEL, DIV and FMT with a line on each. `fixshade COMMAND --help`
 prints this text. Exit status: 0 success, 1 failure (unreadable file, bad scene,
 render error), 2 bad usage.";
 
@@ -75,6 +76,7 @@ pub(crate) struct Opts {
     span: Option<SpanName>,
     shading: Option<ShadingName>,
     specular: Option<SpecularName>,
+    divide: Option<DivideName>,
     format: Option<FormatName>,
     strip: Option<u32>,
     pub(crate) segment: Option<u32>,
@@ -108,6 +110,7 @@ fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
             "--shading" => o.shading = Some(ShadingName::parse(&value(a)?).map_err(usage)?),
             "--format" => o.format = Some(FormatName::parse(&value(a)?).map_err(usage)?),
             "--specular" => o.specular = Some(SpecularName::parse(&value(a)?).map_err(usage)?),
+            "--divide" => o.divide = Some(DivideName::parse(&value(a)?).map_err(usage)?),
             "--strip" => {
                 let v = value(a)?;
                 let n: u32 =
@@ -144,6 +147,9 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     }
     if let Some(s) = o.specular {
         d.specular = s;
+    }
+    if let Some(v) = o.divide {
+        d.divide = v;
     }
     d.raycast.segment = o.segment.unwrap_or(d.raycast.segment);
     d.raycast.threshold = o.threshold.unwrap_or(d.raycast.threshold);
@@ -231,6 +237,7 @@ pub fn parse(args: &[String]) -> Result<Command, CliError> {
                 "--shading",
                 "--format",
                 "--specular",
+                "--divide",
                 "--strip",
                 "--segment",
                 "--threshold",
@@ -379,6 +386,18 @@ fn describe(name: &str) -> &'static str {
     }
 }
 
+/// One line on a divider (`exact` also names a specular model).
+fn describe_divider(n: &str) -> &'static str {
+    match n {
+        "exact" => "full-precision integer division (the default)",
+        "table" => "16 KiB reciprocal table of k = 1..4096, one multiply; exact on that range",
+        _ if n.starts_with("shift-add-rounded-") => {
+            "N shifts and adds, expansion of 1/k rounded at bit N (N = 4..16)"
+        }
+        _ => "N shifts and adds, truncated binary expansion of 1/k (N = 4..16)",
+    }
+}
+
 fn list() -> String {
     let mut out = format!(
         "built-in scenes: {}\nbuilt-in meshes (scene files): sphere, teapot, robot, obj (with path)\n",
@@ -392,6 +411,7 @@ fn list() -> String {
                 ("specular models (--specular)", "quadratic") => {
                     "a·c² + (1 - a)·c, a(n) from a table"
                 }
+                ("dividers (--divide)", n) => describe_divider(n),
                 _ => describe(n),
             };
             out.push_str(&format!("  {n:18} {d}\n"));
@@ -408,6 +428,10 @@ fn list() -> String {
     section(
         "specular models (--specular)",
         SpecularName::ALL.iter().map(|(_, n)| *n).collect(),
+    );
+    section(
+        "dividers (--divide)",
+        DivideName::ALL.iter().map(|(_, n)| *n).collect(),
     );
     section(
         "pixel formats (--format)",

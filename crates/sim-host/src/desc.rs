@@ -215,6 +215,43 @@ pub enum SpecularName {
     CosQuadEnergy,
 }
 
+/// Divider by name (the `Divide` implementations of the core, `fixshade::divide`):
+/// used by the classic span division, the triangle setup's reciprocal and
+/// Schlick's denominator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DivideName {
+    /// Full-precision integer division (bit-identical to the pipeline before the seam).
+    #[default]
+    Exact,
+    /// The 16 KiB reciprocal table of `k = 1..=4096`.
+    Table,
+    /// Shift-and-add with `N` terms of the truncated expansion of `1/k`, `N` in 4..=16.
+    ShiftAdd(u8),
+    /// Shift-and-add with the expansion rounded at bit `N`, `N` in 4..=16.
+    ShiftAddRounded(u8),
+}
+
+/// Every divider with its name, from the core's `NAME`s.
+const DIVIDE_ALL: [(DivideName, &str); 28] = {
+    use fixshade::divide::{Divide, Exact, ShiftAdd, ShiftAddRounded, Table};
+    macro_rules! sa {
+        ($($n:literal)*) => {
+            [
+                (DivideName::Exact, Exact::NAME),
+                (DivideName::Table, Table::NAME),
+                $((DivideName::ShiftAdd($n), ShiftAdd::<$n>::NAME),)*
+                $((DivideName::ShiftAddRounded($n), ShiftAddRounded::<$n>::NAME),)*
+            ]
+        };
+    }
+    sa!(4 5 6 7 8 9 10 11 12 13 14 15 16)
+};
+
+impl Named for DivideName {
+    const WHAT: &'static str = "divider";
+    const ALL: &'static [(Self, &'static str)] = &DIVIDE_ALL;
+}
+
 /// Span method by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SpanName {
@@ -283,6 +320,9 @@ pub struct SceneDesc {
     pub perspective_correct: bool,
     /// Specular model of the fixed-point renderer (the reference is always exact).
     pub specular: SpecularName,
+    /// Divider of the fixed-point renderer's divisions (setup reciprocal, classic
+    /// span, Schlick's denominator).
+    pub divide: DivideName,
     /// Ray-casting settings and analytic primitives (`shading = "raycast"`).
     pub raycast: crate::raycast::RaycastDesc,
 }
@@ -428,6 +468,15 @@ mod tests {
             Sp::CosQuad,
             Sp::CosQuadEnergy,
         ]);
+        let mut dividers = vec![DivideName::Exact, DivideName::Table];
+        dividers.extend((4..=16).map(DivideName::ShiftAdd));
+        dividers.extend((4..=16).map(DivideName::ShiftAddRounded));
+        round_trips(&dividers);
+        assert_eq!(
+            DivideName::parse("shift-add-8"),
+            Ok(DivideName::ShiftAdd(8))
+        );
+        assert!(DivideName::parse("shift-add-17").is_err());
         // The names are the core's.
         let names: Vec<&str> = Sp::ALL.iter().map(|(_, n)| *n).collect();
         assert_eq!(names, fixshade::specular::NAMES);

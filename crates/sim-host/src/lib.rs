@@ -5,6 +5,7 @@ pub mod compare;
 pub mod convert;
 pub mod demo;
 pub mod desc;
+pub mod host_divide;
 pub mod image;
 pub mod mesh;
 pub mod pipeline;

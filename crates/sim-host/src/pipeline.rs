@@ -6,7 +6,10 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::convert::{core_scene, quantize_mesh, quantize_scene, FixedMesh};
-use crate::desc::{FormatName, MeshData, SceneDesc, ShadingName};
+use crate::desc::{
+    DivideName, FormatName, MeshData, SceneDesc, ShadingName, SpanName, SpecularName,
+};
+use crate::host_divide::HostDivide;
 use crate::image::{channel_max, expand, Image};
 use crate::reference::{render_reference, RefOptions};
 use crate::{mesh, scene_file};
@@ -249,10 +252,79 @@ macro_rules! with_specular {
     }};
 }
 
-/// Draws a prepared frame with the scene's span method, or with sampled Phong
-/// lighting when the scene asks for Phong with a segment sampler
+/// How the span methods divide: [`ExactSpans`] draws the plain types (the default
+/// `exact` divider), [`DividedSpans`] the approximate dividers through
+/// [`HostDivide`] (the setup reciprocal for every method, the classic span
+/// division too).
+trait SpanDispatch {
+    fn dispatch<P: PixelFormat, Sp: Specular>(
+        frame: &Frame<'_, '_, '_, P, Sp>,
+        span: SpanName,
+        fb: &mut impl fixshade::target::Target<P>,
+    ) -> Result<Stats, String>;
+}
+
+struct ExactSpans;
+struct DividedSpans;
+
+impl SpanDispatch for ExactSpans {
+    fn dispatch<P: PixelFormat, Sp: Specular>(
+        frame: &Frame<'_, '_, '_, P, Sp>,
+        span: SpanName,
+        fb: &mut impl fixshade::target::Target<P>,
+    ) -> Result<Stats, String> {
+        with_span_method!(span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
+    }
+}
+
+impl SpanDispatch for DividedSpans {
+    fn dispatch<P: PixelFormat, Sp: Specular>(
+        frame: &Frame<'_, '_, '_, P, Sp>,
+        span: SpanName,
+        fb: &mut impl fixshade::target::Target<P>,
+    ) -> Result<Stats, String> {
+        use fixshade::raster::span::{Classic, WithDivide};
+        if span == SpanName::Classic {
+            frame.draw::<WithDivide<Classic<HostDivide>, HostDivide>, _>(fb)
+        } else {
+            with_span_method!(span, S => frame.draw::<WithDivide<S, HostDivide>, _>(fb))
+        }
+        .map_err(|e| e.to_string())
+    }
+}
+
+/// Runs `$body` with `$Sp` bound to the scene's specular model and `$Sd` to its
+/// [`SpanDispatch`]; an approximate divider is selected for [`HostDivide`] and
+/// reaches Schlick's denominators too.
+macro_rules! with_specular_divide {
+    ($desc:expr, $Sp:ident, $Sd:ident => $body:expr) => {{
+        use fixshade::specular::{Schlick, SchlickModified};
+        let d = &$desc;
+        if d.divide == DivideName::Exact {
+            type $Sd = ExactSpans;
+            with_specular!(d.specular, $Sp => $body)
+        } else {
+            type $Sd = DividedSpans;
+            crate::host_divide::select(d.divide);
+            match d.specular {
+                SpecularName::Schlick => {
+                    type $Sp = Schlick<HostDivide>;
+                    $body
+                }
+                SpecularName::SchlickMod => {
+                    type $Sp = SchlickModified<HostDivide>;
+                    $body
+                }
+                other => with_specular!(other, $Sp => $body),
+            }
+        }
+    }};
+}
+
+/// Draws a prepared frame with the scene's span method (dividing as `Sd` says), or
+/// with sampled Phong lighting when the scene asks for Phong with a segment sampler
 /// ([`crate::raycast::RaycastDesc::sampled`]).
-fn span_dispatch<P: PixelFormat, Sp: Specular>(
+fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
     frame: &Frame<'_, '_, '_, P, Sp>,
     d: &SceneDesc,
     fb: &mut impl fixshade::target::Target<P>,
@@ -269,17 +341,17 @@ fn span_dispatch<P: PixelFormat, Sp: Specular>(
             .draw_phong_sampled(fb, sampling)
             .map_err(|e| e.to_string());
     }
-    with_span_method!(d.span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
+    Sd::dispatch(frame, d.span, fb)
 }
 
 fn run_core<P: PixelFormat>(
     ls: &LoadedScene,
     strip_rows: Option<u32>,
 ) -> Result<(Vec<P::Raw>, Stats), String> {
-    with_specular!(ls.desc.specular, Sp => run_core_with::<P, Sp>(ls, strip_rows))
+    with_specular_divide!(ls.desc, Sp, Sd => run_core_with::<P, Sp, Sd>(ls, strip_rows))
 }
 
-fn run_core_with<P: PixelFormat, Sp: Specular>(
+fn run_core_with<P: PixelFormat, Sp: Specular, Sd: SpanDispatch>(
     ls: &LoadedScene,
     strip_rows: Option<u32>,
 ) -> Result<(Vec<P::Raw>, Stats), String> {
@@ -300,7 +372,7 @@ fn run_core_with<P: PixelFormat, Sp: Specular>(
             let mut fb =
                 Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
                     .map_err(|e| e.to_string())?;
-            stats = span_dispatch(&frame, d, &mut fb)?;
+            stats = span_dispatch::<Sd, _, _>(&frame, d, &mut fb)?;
         }
         Some(rows) => {
             let rows = rows.clamp(1, h);
@@ -319,7 +391,7 @@ fn run_core_with<P: PixelFormat, Sp: Specular>(
                 )
                 .map_err(|e| e.to_string())?;
                 strip.clear(bg);
-                stats += span_dispatch(&frame, d, &mut strip)?;
+                stats += span_dispatch::<Sd, _, _>(&frame, d, &mut strip)?;
                 let len = w as usize * hh as usize;
                 let at = y0 as usize * w as usize;
                 color[at..at + len].copy_from_slice(&strip.color()[..len]);
@@ -407,9 +479,9 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         return crate::raycast::time_frame(ls, runs);
     }
     fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
-        with_specular!(ls.desc.specular, Sp => go_with::<P, Sp>(ls, runs))
+        with_specular_divide!(ls.desc, Sp, Sd => go_with::<P, Sp, Sd>(ls, runs))
     }
-    fn go_with<P: PixelFormat, Sp: Specular>(
+    fn go_with<P: PixelFormat, Sp: Specular, Sd: SpanDispatch>(
         ls: &LoadedScene,
         runs: usize,
     ) -> Result<Duration, String> {
@@ -429,7 +501,7 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
             let mut fb =
                 Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
                     .map_err(|e| e.to_string())?;
-            std::hint::black_box(span_dispatch(&frame, d, &mut fb)?);
+            std::hint::black_box(span_dispatch::<Sd, _, _>(&frame, d, &mut fb)?);
             times.push(t.elapsed());
         }
         times.sort();

@@ -34,6 +34,7 @@
 //! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd`, `raycast` ([`ShadingName`]) |
 //! | `specular` | string | `"exact"` | `exact`, `schlick`, `schlick-mod`, `quadratic`, `cos-quad`, `cos-quad-energy` ([`SpecularName`]; the reference is always exact) |
 //! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
+//! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal and Schlick's denominator; `exact` keeps the full-precision divisions) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
 //! | `perspective_correct` | boolean | `false` | honoured by the reference renderer only |
@@ -127,6 +128,7 @@
 //! [render]
 //! shading = "gouraud"          # default
 //! span = "gradient"            # default
+//! divide = "exact"             # default
 //! cull = "back"                # default
 //! depth_test = true            # default
 //! perspective_correct = false  # default
@@ -191,8 +193,8 @@
 //! further examples.
 
 use crate::desc::{
-    CameraDesc, FormatName, LightDesc, LightKind, MaterialDesc, MeshSource, Named, ObjectDesc,
-    Projection, SceneDesc, ShadingName, SpanName, SpecularName,
+    CameraDesc, DivideName, FormatName, LightDesc, LightKind, MaterialDesc, MeshSource, Named,
+    ObjectDesc, Projection, SceneDesc, ShadingName, SpanName, SpecularName,
 };
 use std::fmt;
 use std::ops::Range;
@@ -335,6 +337,7 @@ const RENDER_KEYS: &[&str] = &[
     "shading",
     "specular",
     "span",
+    "divide",
     "cull",
     "depth_test",
     "perspective_correct",
@@ -730,6 +733,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         depth_test: true,
         perspective_correct: false,
         specular: SpecularName::Exact,
+        divide: DivideName::Exact,
         raycast: crate::raycast::RaycastDesc::default(),
     };
 
@@ -862,6 +866,7 @@ fn image(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
 fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.shading = s.named("shading", desc.shading)?;
     desc.specular = s.named("specular", desc.specular)?;
+    desc.divide = s.named("divide", desc.divide)?;
     desc.span = s.named("span", desc.span)?;
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;

@@ -130,7 +130,7 @@ where
     {
         return 0;
     }
-    let Some(s) = setup::setup(v) else {
+    let Some(s) = S::setup(v) else {
         return 0;
     };
     S::draw::<P, T, Z, Sh>(target, &s)

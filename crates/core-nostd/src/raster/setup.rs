@@ -23,6 +23,7 @@
 
 use super::edge::first_row;
 use super::ScreenVertex;
+use crate::divide::{wide_recip, Divide, Exact};
 
 /// Number of interpolated attributes: three colour channels and depth.
 pub const ATTRS: usize = 4;
@@ -82,7 +83,15 @@ pub(crate) struct Det {
 
 impl Det {
     /// `None` for a zero-area triangle. Vertices sorted, in the guard band.
-    fn new(p: [(i32, i32); 3]) -> Option<Det> {
+    ///
+    /// The reciprocal goes through `D`: [`Exact`] keeps the full `⌊2⁶²/|det|⌋`
+    /// (bit-identical to the setup before the seam); any other variant rounds
+    /// `|det|` up to its mantissa and takes [`wide_recip`]: relative error at most
+    /// `η = 2^(1−b) + (2E + 2)·2^b/2³⁰` (see there), never an over-estimate. Every
+    /// increment inherits it, so a covered pixel's value moves from the exact one
+    /// towards the top vertex's by at most `η` of their difference: it stays in
+    /// range, within `η` times the triangle's attribute range of the exact value.
+    fn new<D: Divide>(p: [(i32, i32); 3]) -> Option<Det> {
         let (dx1, dy1) = ((p[1].0 - p[0].0) as i64, (p[1].1 - p[0].1) as i64);
         let (dx2, dy2) = ((p[2].0 - p[0].0) as i64, (p[2].1 - p[0].1) as i64);
         let det = dx1 * dy2 - dx2 * dy1;
@@ -90,7 +99,12 @@ impl Det {
             return None;
         }
         // |det| ≥ 1 and < 2^35: a u64 division (one hardware divide on 64-bit hosts).
-        let inv = ((1u64 << 62) / det.unsigned_abs()) as i128;
+        let inv = if D::EXACT {
+            ((1u64 << 62) / det.unsigned_abs()) as i128
+        } else {
+            // ≤ 2^62 (the mantissa is at least 1), at least 1: the sign survives.
+            wide_recip::<D>(det.unsigned_abs() as u128).scaled(62) as i128
+        };
         Some(Det {
             dx1,
             dy1,
@@ -125,11 +139,22 @@ impl Det {
 /// and the true value at every covered pixel fits, so the result there is still exact
 /// to the bound above.
 pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
-    setup_with_det(v).map(|(s, _)| s)
+    setup_div::<Exact>(v)
+}
+
+/// [`setup`] with the determinant's reciprocal taken through the divider `D`
+/// ([`setup`] is `setup_div::<Exact>`).
+pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
+    setup_with_det_div::<D>(v).map(|(s, _)| s)
 }
 
 /// [`setup`], also returning its [`Det`] for further attribute planes.
-pub(crate) fn setup_with_det(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
+pub(crate) fn setup_with_det(v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
+    setup_with_det_div::<Exact>(v)
+}
+
+/// [`setup_div`], also returning its [`Det`].
+pub(crate) fn setup_with_det_div<D: Divide>(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
     // Sorted by (y, x) with three compare-exchanges. Two vertices with equal keys
     // coincide, so the triangle has zero area and is rejected whatever their order.
     let key = |p: &ScreenVertex| (p.y, p.x);
@@ -142,7 +167,7 @@ pub(crate) fn setup_with_det(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
             v.swap(0, 1);
         }
     }
-    let det = Det::new(v.map(|p| (p.x, p.y)))?;
+    let det = Det::new::<D>(v.map(|p| (p.x, p.y)))?;
     let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
     let mut gx = [0i64; ATTRS];
     let mut gy = [0i64; ATTRS];

@@ -12,8 +12,10 @@
 use super::edge::EdgeStepper;
 use super::setup::{Setup, ATTRS};
 use super::ScreenVertex;
+use crate::divide::{wide_recip, Divide, Exact};
 use crate::shade::Shading;
 use crate::target::{PixelFormat, Target};
+use core::marker::PhantomData;
 
 /// Edge crossings of a row, for methods that interpolate between the edges.
 ///
@@ -98,6 +100,12 @@ pub trait SpanMethod {
     #[inline(always)]
     fn snap(v: ScreenVertex) -> ScreenVertex {
         v
+    }
+    /// Sets up a triangle for this method: [`super::setup::setup`] by default;
+    /// [`WithDivide`] takes the determinant's reciprocal through its divider.
+    #[inline(always)]
+    fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
+        super::setup::setup(v)
     }
     /// Per-triangle data of the method (lane offsets, multiples of the increment).
     type Tri;
@@ -331,8 +339,21 @@ impl SpanMethod for Gradient {
 /// steps over 4096 pixels). The total stays within the same 1-step bound as
 /// [`Gradient`], however narrow the span: rounding the crossings to a fixed grid
 /// instead would be amplified by `|ΔI|/W` on spans much narrower than a pixel.
+///
+/// The divider `D` ([`crate::divide`]) is chosen once per draw: `Classic` is
+/// `Classic<Exact>`, which keeps the two full-precision divisions above and renders
+/// bit-identically to the method before the seam ([`Divide::EXACT`]). Any other
+/// divider takes one reciprocal of the width per span through the seam,
+/// [`wide_recip`] (`1/W ≈ ρ ≤ 1/W`, relative error at most
+/// `η = 2^(1−b) + (2E + 2)·2^b/2³⁰`), and derives `t = dist·ρ` and the increment
+/// `ΔI = diff·ρ` by multiplies. The value at pixel `i` of the span is then
+/// `I_L + diff·ρ·(x_i − x_L)`, between `I_L` and the exact value (`ρ` never
+/// over-estimates and `x_i − x_L ≤ W`), so it stays in range with no clamping, off
+/// by at most `η·|I_R − I_L|` plus the truncations above: `η·256` output steps for a
+/// colour channel.
+/// Coverage does not depend on `D`.
 #[derive(Copy, Clone, Debug, Default)]
-pub struct Classic;
+pub struct Classic<D: Divide = Exact>(PhantomData<D>);
 
 /// `n / d` for `0 ≤ n`, `0 < d`, in u64 when both fit (one hardware division on
 /// 64-bit hosts) and in u128 otherwise.
@@ -344,7 +365,26 @@ fn div_wide(n: u128, d: u128) -> u128 {
     }
 }
 
-impl SpanMethod for Classic {
+/// `(t, 1/W)` in Q.40 from one reciprocal of `width` through `D` (see [`Classic`]).
+/// `0 ≤ dist ≤ width < 2⁵⁶` and `unit = dl·dr < 2⁴²` (one pixel in the units of
+/// `width`).
+#[inline]
+fn seam_weights<D: Divide>(dist: i128, width: i128, unit: i128) -> (i128, i128) {
+    let w = wide_recip::<D>(width as u128);
+    let r = w.r as u128; // ≤ 2^30
+                         // x·ρ in Q.40 = x·r·2^(10 − shift): x < 2^56, so x·r < 2^86 and x·r·2^10 < 2^96.
+    let q40 = |x: i128, r: u128| {
+        let p = x as u128 * r;
+        (if w.shift <= 10 {
+            p << (10 - w.shift)
+        } else {
+            p >> (w.shift - 10)
+        }) as i128
+    };
+    (q40(dist, r), q40(unit, r))
+}
+
+impl<D: Divide> SpanMethod for Classic<D> {
     const NAME: &'static str = "classic";
     const EDGE_VALUES: bool = true;
     type Tri = ();
@@ -366,9 +406,15 @@ impl SpanMethod for Classic {
         if width <= 0 || dist < 0 {
             return; // the span is empty: no pixel centre lies between the crossings
         }
-        // t and 1/W in Q.40: dist ≤ width, so t40 ≤ 2^40; dist << 40 < 2^96.
-        let t40 = div_wide((dist as u128) << 40, width as u128) as i128;
-        let inv_w40 = div_wide(((dl * dr) as u128) << 40, width as u128) as i128;
+        let (t40, inv_w40) = if D::EXACT {
+            // t and 1/W in Q.40: dist ≤ width, so t40 ≤ 2^40; dist << 40 < 2^96.
+            (
+                div_wide((dist as u128) << 40, width as u128) as i128,
+                div_wide(((dl * dr) as u128) << 40, width as u128) as i128,
+            )
+        } else {
+            seam_weights::<D>(dist, width, dl * dr)
+        };
         let mut v = [0i32; ATTRS];
         let mut g = [0i32; ATTRS];
         for k in 0..ATTRS {
@@ -379,5 +425,54 @@ impl SpanMethod for Classic {
             g[k] = ((diff * inv_w40) >> 40) as i32;
         }
         write_run::<P, Z, Sh>(color, depth, v, &g);
+    }
+}
+
+/// The span method `S` with the triangle setup's reciprocal of the determinant
+/// taken through the divider `D` ([`super::setup::setup_div`]); everything else is
+/// `S`'s own. `WithDivide<S, Exact>` draws exactly what `S` draws.
+///
+/// With an approximate `D` every increment of the triangle is off by the
+/// reciprocal's relative error `η` ([`wide_recip`]), so a pixel's value is off by
+/// `η` times its change from the lattice anchor: small for ordinary triangles, but
+/// slivers, whose increments are large, can leave the channel range. Coverage does
+/// not depend on `D` (the edges never use the reciprocal; only the orientation,
+/// whose sign the reciprocal keeps).
+#[derive(Copy, Clone, Debug, Default)]
+pub struct WithDivide<S, D>(PhantomData<(S, D)>);
+
+impl<S: SpanMethod, D: Divide> SpanMethod for WithDivide<S, D> {
+    const NAME: &'static str = S::NAME;
+    const EDGE_VALUES: bool = S::EDGE_VALUES;
+    const SNAPS: bool = S::SNAPS;
+    #[inline(always)]
+    fn snap(v: ScreenVertex) -> ScreenVertex {
+        S::snap(v)
+    }
+    #[inline(always)]
+    fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
+        super::setup::setup_div::<D>(v)
+    }
+    type Tri = S::Tri;
+    #[inline(always)]
+    fn prepare(tri: &Setup) -> S::Tri {
+        S::prepare(tri)
+    }
+    #[inline(always)]
+    fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+        color: &mut [P::Raw],
+        depth: &mut [u16],
+        span: &Span,
+        tri: &Setup,
+        data: &S::Tri,
+    ) {
+        S::fill::<P, Z, Sh>(color, depth, span, tri, data)
+    }
+    #[inline(always)]
+    fn draw<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        tri: &Setup,
+    ) -> u32 {
+        S::draw::<P, T, Z, Sh>(target, tri)
     }
 }

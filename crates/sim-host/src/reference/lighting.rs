@@ -286,6 +286,7 @@ mod tests {
             depth_test: true,
             perspective_correct: false,
             specular: crate::desc::SpecularName::Exact,
+            divide: crate::desc::DivideName::Exact,
             raycast: Default::default(),
         };
         let view = super::super::matrix::view_matrix(&scene.camera);

@@ -54,6 +54,7 @@ fn ortho_scene(objects: Vec<ObjectDesc>) -> SceneDesc {
         depth_test: true,
         perspective_correct: false,
         specular: crate::desc::SpecularName::Exact,
+        divide: crate::desc::DivideName::Exact,
         raycast: Default::default(),
     }
 }
@@ -172,6 +173,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
         depth_test: true,
         perspective_correct: false,
         specular: crate::desc::SpecularName::Exact,
+        divide: crate::desc::DivideName::Exact,
         raycast: Default::default(),
     }
 }
