@@ -417,3 +417,57 @@ pub fn check_all(c: &Case) -> Result<Figures, String> {
     }
     Ok(f)
 }
+
+/// Path of the baked triangle catalogue the QEMU firmware renders, under `boards/`.
+pub const BAKED_TRIANGLES: &str = "baked/catalogue/triangles.rs";
+
+/// The triangle catalogue as Rust source for the firmware (`boards/baked/catalogue/`):
+/// every case's frame, drawn rows and triangles exactly as [`crate::catalogue::TriCase::triangles`]
+/// gives them to the rasterizer. The file is self-contained (it declares its own
+/// case type) so the firmware and `cargo xtask qemu` include the same bytes.
+pub fn bake_triangles(cases: &[crate::catalogue::TriCase]) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::from(
+        "//! The hard-case triangle catalogue (tests/catalogue/triangles.toml) as data for\n\
+         //! the QEMU firmware. Generated: regenerate with\n\
+         //! `FIXSHADE_BLESS=1 cargo test -p fixshade-tests --test hard_cases baked`\n\
+         //! (that test fails when this file is stale).\n\n\
+         use fixshade::raster::ScreenVertex;\n\n\
+         /// One case: a `width` × `height` frame of which rows `y0 .. y0 + rows` are drawn.\n\
+         pub struct TriCase {\n    \
+             /// The catalogue's name.\n    pub name: &'static str,\n    \
+             /// Frame width.\n    pub width: u32,\n    \
+             /// Frame height.\n    pub height: u32,\n    \
+             /// First drawn row.\n    pub y0: u32,\n    \
+             /// Drawn rows.\n    pub rows: u32,\n    \
+             /// Triangles, in drawing order.\n    pub tris: &'static [[ScreenVertex; 3]],\n\
+         }\n\n\
+         const fn v(x: i32, y: i32, z: u32, c: [i32; 3]) -> ScreenVertex {\n    \
+             ScreenVertex { x, y, z, c }\n\
+         }\n\n\
+         /// Every case, in the catalogue's order.\n\
+         pub const CASES: &[TriCase] = &[\n",
+    );
+    for c in cases {
+        let (y0, rows) = c.strip();
+        let _ = writeln!(
+            s,
+            "    TriCase {{\n        name: {:?},\n        width: {},\n        height: {},\n        y0: {y0},\n        rows: {rows},\n        tris: &[",
+            c.name, c.frame[0], c.frame[1]
+        );
+        for t in c.triangles() {
+            s.push_str("            [\n");
+            for p in t {
+                let _ = writeln!(
+                    s,
+                    "                v({}, {}, {}, [{}, {}, {}]),",
+                    p.x, p.y, p.z, p.c[0], p.c[1], p.c[2]
+                );
+            }
+            s.push_str("            ],\n");
+        }
+        s.push_str("        ],\n    },\n");
+    }
+    s.push_str("];\n");
+    s
+}
