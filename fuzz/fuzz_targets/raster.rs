@@ -2,7 +2,9 @@
 //! method and shading) into a small target with a guard region around it.
 //!
 //! Input layout (little-endian), so seeds can be written from the catalogue:
-//! byte 0 span method (index into `SpanName::ALL`, modulo), byte 1 flags (bit 0 depth
+//! byte 0 span method (bits 0–5: index into `SpanName::ALL`, modulo; bit 7 set: the
+//! Phong fills instead, the vertex colour words as the Q2.30 normal and the first
+//! three midpoint words as the eye position, any values), byte 1 flags (bit 0 depth
 //! test, bit 1 strip instead of the whole frame, bits 2–3 shading: flat, Gouraud,
 //! quadratic blocks, quadratic rows; bits 4–5 coordinate mode: raw, folded into the
 //! guard band, folded around the target, on the pixel grid; bits 6–7 pixel format:
@@ -16,8 +18,11 @@
 //! coverage model (none when a vertex is outside the guard band) and reports that
 //! many; `sierpinski` writes no pixel twice; the quadratic fills cover what
 //! `gradient` covers; with vertex colours in range, recorded channels stay in range.
+//! Phong: both fills cover exactly what `gradient` covers (without depth), the
+//! even/odd fill equals the row fill, recorded channels stay in range.
 #![no_main]
 
+use fixshade::raster::phong::{draw_phong, EvenOdd as PhongEvenOdd, PhongVertex, Rows};
 use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth};
 use fixshade::raster::{draw_triangle, ScreenVertex, GUARD};
@@ -25,6 +30,7 @@ use fixshade::shade::{Flat, Gouraud};
 use fixshade::target::{Gray8, PixelFormat, Rgb565Le, Rgb888};
 use fixshade_sim::desc::{Named, SpanName};
 use fixshade_sim::with_span_method;
+use fixshade_tests::hard::NormalLight;
 use fixshade_tests::{Count, Guarded, Rec, Winding};
 use libfuzzer_sys::fuzz_target;
 
@@ -32,6 +38,7 @@ const MAX_W: u32 = 24;
 const MAX_H: u32 = 24;
 
 struct Case {
+    phong: bool,
     span: SpanName,
     depth: bool,
     strip: (u32, u32),
@@ -54,7 +61,7 @@ fn parse(data: &[u8]) -> Option<Case> {
     if data.len() < 6 {
         return None;
     }
-    let span = SpanName::ALL[data[0] as usize % SpanName::ALL.len()].0;
+    let span = SpanName::ALL[(data[0] & 0x3F) as usize % SpanName::ALL.len()].0;
     let flags = data[1];
     let w = (data[2] as u32 % MAX_W) + 1;
     let fh = (data[3] as u32 % MAX_H) + 1;
@@ -93,6 +100,7 @@ fn parse(data: &[u8]) -> Option<Case> {
         })
         .collect();
     Some(Case {
+        phong: data[0] & 0x80 != 0,
         span,
         depth: flags & 1 != 0,
         strip,
@@ -162,8 +170,71 @@ fn colour<P: PixelFormat>(c: &Case, clear: P::Raw, sentinel: P::Raw) -> Guarded<
     g
 }
 
+/// The Phong fills on every triangle: coverage as `gradient`, even/odd = rows.
+fn phong(c: &Case) {
+    for (v, mid) in &c.tris {
+        let pv = core::array::from_fn::<_, 3, _>(|k| PhongVertex {
+            x: v[k].x,
+            y: v[k].y,
+            z: v[k].z,
+            n: v[k].c,
+            p: mid[0],
+        });
+        let new = || {
+            Guarded::<Rec>::new(
+                c.w,
+                c.fh,
+                c.strip.0,
+                c.strip.1,
+                c.depth,
+                None,
+                Some([i32::MIN; 3]),
+            )
+        };
+        let (mut rows, mut eo) = (new(), new());
+        let n = if c.depth {
+            draw_phong::<Rec, _, DepthTest, Rows, _>(&mut rows, pv, &NormalLight);
+            draw_phong::<Rec, _, DepthTest, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+        } else {
+            draw_phong::<Rec, _, NoDepth, Rows, _>(&mut rows, pv, &NormalLight);
+            draw_phong::<Rec, _, NoDepth, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+        };
+        assert!(
+            rows.intact() && eo.intact(),
+            "phong: write outside the target"
+        );
+        assert_eq!(
+            rows.pixels(),
+            eo.pixels(),
+            "phong: even/odd differs from rows"
+        );
+        for p in rows.pixels().into_iter().flatten() {
+            assert!(
+                p.iter().all(|ch| (0..=255).contains(ch)),
+                "phong: channel out of range: {p:?}"
+            );
+        }
+        if !c.depth {
+            let mut g = Guarded::<Count>::new(c.w, c.fh, c.strip.0, c.strip.1, false, 0, 0);
+            draw_triangle::<Count, _, fixshade::raster::span::Gradient, NoDepth, Flat>(&mut g, *v);
+            let want: Vec<bool> = g.pixels().iter().map(|p| *p > 0).collect();
+            let got: Vec<bool> = rows.pixels().iter().map(|p| p.is_some()).collect();
+            assert_eq!(got, want, "phong: coverage differs from gradient");
+            assert_eq!(
+                got.iter().filter(|b| **b).count() as u32,
+                n,
+                "phong: reported count"
+            );
+        }
+    }
+}
+
 fuzz_target!(|data: &[u8]| {
     let Some(c) = parse(data) else { return };
+    if c.phong {
+        phong(&c);
+        return;
+    }
     for (v, mid) in &c.tris {
         coverage(&c, v, mid);
     }

@@ -3,6 +3,7 @@
 //! outside the target (a [`Guarded`] target), and, as the case asks, exact coverage,
 //! watertightness, colour and depth within their bounds of the exact values.
 
+use fixshade::raster::phong::{draw_phong, EvenOdd as PhongEvenOdd, PhongVertex, PixelLight, Rows};
 use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex, GUARD};
@@ -409,11 +410,203 @@ pub fn check_quadratic(c: &Case) -> Result<Figures, String> {
     Ok(f)
 }
 
-/// Checks a case with every span method and the quadratic fills.
+/// Lights a pixel by its normal alone: channel `i` is `(nᵢ + 1) / 2` (Q16.16), so the
+/// recorded colour shows the interpolated, renormalised normal.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NormalLight;
+
+impl PixelLight for NormalLight {
+    fn light(&self, _p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        // |n| < 2³¹: the sum < 2³², shifted to ≤ 2¹⁷, clamped to 0..=1.
+        n.map(|c| ((c as i64 + (1 << 30)) >> 15).clamp(0, 1 << 16) as i32)
+    }
+}
+
+/// The unit vector from the grey centre (127.5) to a vertex colour: opposite colours
+/// give opposite normals, so the catalogue's 0 → 255 jumps interpolate through zero
+/// length. A grey vertex faces the viewer.
+pub fn colour_normal(c: [i32; 3]) -> [f64; 3] {
+    let d = c.map(|v| v as f64 / 65536.0 - 127.5);
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    if len > 0.0 {
+        d.map(|x| x / len)
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+/// Phong vertices of a case's triangle: [`colour_normal`] in Q2.30, the eye position
+/// from the screen position and depth.
+pub fn phong_vertices(t: &[ScreenVertex; 3]) -> [PhongVertex; 3] {
+    t.map(|v| PhongVertex {
+        x: v.x,
+        y: v.y,
+        z: v.z,
+        n: colour_normal(v.c).map(|x| (x * (1u32 << 30) as f64).round() as i32),
+        p: [v.x >> 4, v.y >> 4, -((v.z >> 16) as i32)],
+    })
+}
+
+/// Checks the Phong fills on a case: no write outside; without depth, exactly the
+/// pixels the flat `gradient` draw covers; the even/odd fill bit-identical to the row
+/// fill, with and without depth; depth within 1 of the exact value where the case
+/// asks; and where the exact interpolated normal is at least half a unit long, every
+/// channel within 1 step of `NormalLight` of the exact renormalised normal (`colour`
+/// cases).
+pub fn check_phong(c: &Case) -> Result<Figures, String> {
+    use fixshade::raster::span::Gradient;
+    let h = c.holds;
+    let mut f = Figures::default();
+    let win = Window {
+        width: c.frame.0 as usize,
+        y0: c.strip.0 as i32,
+        h: c.strip.1 as usize,
+    };
+    for (k, t) in c.tris.iter().enumerate() {
+        let what = format!("[phong] triangle {k}");
+        let pv = phong_vertices(t);
+        let mut g = guarded::<Count>(c, false, 0, 0);
+        draw_triangle::<Count, _, Gradient, NoDepth, Flat>(&mut g, *t);
+        let want: Vec<bool> = g.pixels().iter().map(|p| *p > 0).collect();
+        for depth in [false, true] {
+            let mut rows = rec(c, depth);
+            let mut eo = rec(c, depth);
+            let n = if depth {
+                draw_phong::<Rec, _, DepthTest, Rows, _>(&mut rows, pv, &NormalLight);
+                draw_phong::<Rec, _, DepthTest, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+            } else {
+                draw_phong::<Rec, _, NoDepth, Rows, _>(&mut rows, pv, &NormalLight);
+                draw_phong::<Rec, _, NoDepth, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+            };
+            intact(&rows, &what)?;
+            intact(&eo, &format!("{what} even-odd"))?;
+            let col = rows.pixels();
+            if col != eo.pixels() || (depth && rows.depths() != eo.depths()) {
+                return Err(format!("{what}: even/odd fill differs from the row fill"));
+            }
+            if let Some(p) = col
+                .iter()
+                .flatten()
+                .find(|p| !p.iter().all(|ch| (0..=255).contains(ch)))
+            {
+                return Err(format!("{what}: channel out of range: {p:?}"));
+            }
+            if !depth {
+                let got: Vec<bool> = col.iter().map(|p| p.is_some()).collect();
+                if got != want {
+                    return Err(format!("{what}: covers other pixels than gradient"));
+                }
+                let covered = got.iter().filter(|b| **b).count() as u32;
+                if covered != n {
+                    return Err(format!("{what}: reported {n} pixels, wrote {covered}"));
+                }
+                f.coverage_checks += got.len() as u64;
+            }
+            if depth && h.depth {
+                depth_errors(
+                    &win,
+                    &col,
+                    &rows.depths(),
+                    t,
+                    &format!("{what} depth"),
+                    &mut f,
+                )?;
+            }
+            if !depth && h.colour {
+                let nv = t.map(|v| colour_normal(v.c));
+                for (i, p) in col.iter().enumerate() {
+                    let Some(p) = p else { continue };
+                    let (x, y) = pixel_xy(&win, i);
+                    let e: [f64; 3] = core::array::from_fn(|ch| {
+                        let q = |v: &ScreenVertex| {
+                            let j = t.iter().position(|u| u == v).unwrap_or(0);
+                            (nv[j][ch] * 65536.0).round() as i64
+                        };
+                        exact(t, x, y, q)
+                    });
+                    let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+                    if len < 0.5 {
+                        continue;
+                    }
+                    for ch in 0..3 {
+                        let want = (e[ch] / len + 1.0) / 2.0 * 255.0;
+                        let err = (p[ch] as f64 - want).abs();
+                        f.colour_checks += 1;
+                        f.max_colour_err = f.max_colour_err.max(err);
+                        if err > 1.0 {
+                            return Err(format!(
+                                "{what}: pixel ({x},{y}) channel {ch}: got {}, exact {want:.4}",
+                                p[ch]
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(f)
+}
+
+/// Checks a case with every span method, the quadratic fills and the Phong fills.
 pub fn check_all(c: &Case) -> Result<Figures, String> {
     let mut f = check_quadratic(c)?;
+    f += check_phong(c)?;
     for span in span_methods() {
         f += with_span_method!(span, S => check_method::<S>(c, span))?;
     }
     Ok(f)
+}
+
+/// Path of the baked triangle catalogue the QEMU firmware renders, under `boards/`.
+pub const BAKED_TRIANGLES: &str = "baked/catalogue/triangles.rs";
+
+/// The triangle catalogue as Rust source for the firmware (`boards/baked/catalogue/`):
+/// every case's frame, drawn rows and triangles exactly as [`crate::catalogue::TriCase::triangles`]
+/// gives them to the rasterizer. The file is self-contained (it declares its own
+/// case type) so the firmware and `cargo xtask qemu` include the same bytes.
+pub fn bake_triangles(cases: &[crate::catalogue::TriCase]) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::from(
+        "//! The hard-case triangle catalogue (tests/catalogue/triangles.toml) as data for\n\
+         //! the QEMU firmware. Generated: regenerate with\n\
+         //! `FIXSHADE_BLESS=1 cargo test -p fixshade-tests --test hard_cases baked`\n\
+         //! (that test fails when this file is stale).\n\n\
+         use fixshade::raster::ScreenVertex;\n\n\
+         /// One case: a `width` × `height` frame of which rows `y0 .. y0 + rows` are drawn.\n\
+         pub struct TriCase {\n    \
+             /// The catalogue's name.\n    pub name: &'static str,\n    \
+             /// Frame width.\n    pub width: u32,\n    \
+             /// Frame height.\n    pub height: u32,\n    \
+             /// First drawn row.\n    pub y0: u32,\n    \
+             /// Drawn rows.\n    pub rows: u32,\n    \
+             /// Triangles, in drawing order.\n    pub tris: &'static [[ScreenVertex; 3]],\n\
+         }\n\n\
+         const fn v(x: i32, y: i32, z: u32, c: [i32; 3]) -> ScreenVertex {\n    \
+             ScreenVertex { x, y, z, c }\n\
+         }\n\n\
+         /// Every case, in the catalogue's order.\n\
+         pub const CASES: &[TriCase] = &[\n",
+    );
+    for c in cases {
+        let (y0, rows) = c.strip();
+        let _ = writeln!(
+            s,
+            "    TriCase {{\n        name: {:?},\n        width: {},\n        height: {},\n        y0: {y0},\n        rows: {rows},\n        tris: &[",
+            c.name, c.frame[0], c.frame[1]
+        );
+        for t in c.triangles() {
+            s.push_str("            [\n");
+            for p in t {
+                let _ = writeln!(
+                    s,
+                    "                v({}, {}, {}, [{}, {}, {}]),",
+                    p.x, p.y, p.z, p.c[0], p.c[1], p.c[2]
+                );
+            }
+            s.push_str("            ],\n");
+        }
+        s.push_str("        ],\n    },\n");
+    }
+    s.push_str("];\n");
+    s
 }

@@ -34,6 +34,20 @@ struct Image {
     /// QEMU `-machine` and `-cpu`.
     machine: &'static str,
     cpu: &'static str,
+    /// What the image renders.
+    kind: Kind,
+}
+
+/// What an image renders and how its output is checked.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// The built-in figures (`FRAME` lines).
+    Figures,
+    /// The hard-case triangle catalogue (its binary alone is built; checked by
+    /// `crate::catalogue`).
+    Catalogue,
+    /// Ray-cast scenes (`RAY` lines; its binary alone is built).
+    Ray,
 }
 
 const IMAGES: &[Image] = &[
@@ -44,6 +58,25 @@ const IMAGES: &[Image] = &[
         bin: "fixshade-qemu-mps2-an386",
         machine: "mps2-an386",
         cpu: "cortex-m4",
+        kind: Kind::Figures,
+    },
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "catalogue",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-mps2-catalogue",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        kind: Kind::Catalogue,
+    },
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "ray",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-mps2-ray",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        kind: Kind::Ray,
     },
     Image {
         krate: "qemu-microbit",
@@ -52,6 +85,7 @@ const IMAGES: &[Image] = &[
         bin: "fixshade-qemu-microbit",
         machine: "microbit",
         cpu: "cortex-m0",
+        kind: Kind::Figures,
     },
     Image {
         krate: "qemu-microbit",
@@ -60,6 +94,7 @@ const IMAGES: &[Image] = &[
         bin: "fixshade-qemu-microbit",
         machine: "microbit",
         cpu: "cortex-m0",
+        kind: Kind::Figures,
     },
     Image {
         krate: "qemu-microbit",
@@ -68,6 +103,7 @@ const IMAGES: &[Image] = &[
         bin: "fixshade-qemu-microbit",
         machine: "microbit",
         cpu: "cortex-m0",
+        kind: Kind::Figures,
     },
     Image {
         krate: "qemu-microbit",
@@ -76,6 +112,16 @@ const IMAGES: &[Image] = &[
         bin: "fixshade-qemu-microbit",
         machine: "microbit",
         cpu: "cortex-m0",
+        kind: Kind::Figures,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "catalogue",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-catalogue",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Catalogue,
     },
 ];
 
@@ -99,7 +145,7 @@ fn build_real_boards(root: &Path) -> Result<Vec<(String, u64, u64)>, String> {
     let mut sizes = Vec::new();
     for (krate, target, bin) in REAL_BOARDS {
         let dir = root.join("boards").join(krate);
-        cargo_build(&dir, "")?;
+        cargo_build(&dir, "", None)?;
         let elf = dir.join("target").join(target).join("release").join(bin);
         let (flash, ram) = elf_sizes(&elf)?;
         eprintln!("xtask: {krate}: flash {flash} B, static RAM {ram} B (built, not run)");
@@ -228,12 +274,15 @@ fn ensure_qemu() -> bool {
     have_qemu()
 }
 
-fn cargo_build(dir: &Path, features: &str) -> Result<(), String> {
+fn cargo_build(dir: &Path, features: &str, bin: Option<&str>) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.current_dir(dir).args(["build", "--release"]);
     if !features.is_empty() {
         cmd.args(["--no-default-features", "--features", features]);
+    }
+    if let Some(b) = bin {
+        cmd.args(["--bin", b]);
     }
     // The board crates have their own target and lock file: nothing of the outer
     // cargo invocation's environment may leak into them.
@@ -329,7 +378,7 @@ fn host_frame(
     }
 }
 
-fn first_difference(a: &[u8], b: &[u8]) -> String {
+pub(crate) fn first_difference(a: &[u8], b: &[u8]) -> String {
     match a.iter().zip(b).position(|(x, y)| x != y) {
         Some(i) => format!("first difference at byte {i}"),
         None if a.len() != b.len() => "lengths differ".into(),
@@ -345,13 +394,23 @@ fn fmt_per(a: u64, b: u64) -> String {
     }
 }
 
+/// The workspace root.
+pub fn root() -> PathBuf {
+    let m = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    m.parent().map(Path::to_path_buf).unwrap_or(m)
+}
+
 /// The task.
 pub fn qemu() -> Result<(), String> {
     let ci = std::env::var("CI").is_ok_and(|v| v == "true");
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .ok_or("xtask has no parent directory")?
-        .to_path_buf();
+    let root = root();
+    let stale = crate::raybake::sync(&root, false)?;
+    if !stale.is_empty() {
+        return Err(format!(
+            "stale baked ray scenes (regenerate with `cargo xtask bake-ray`): {}",
+            stale.join(", ")
+        ));
+    }
     let status = Command::new("rustup")
         .args([
             "target",
@@ -384,9 +443,16 @@ pub fn qemu() -> Result<(), String> {
     // Frames of the strip-and-chunk path that differ from the host's whole-frame
     // render (they match the host's strip-and-chunk render, or they are mismatches).
     let mut layout_differs = Vec::new();
+    let (mut catalogue_frames, mut catalogue_rows, mut catalogue_skipped) =
+        (0, Vec::new(), Vec::new());
+    let (mut ray_frames, mut ray_rows) = (0, Vec::new());
     for img in IMAGES {
         let dir = root.join("boards").join(img.krate);
-        cargo_build(&dir, img.features)?;
+        cargo_build(
+            &dir,
+            img.features,
+            (img.kind != Kind::Figures).then_some(img.bin),
+        )?;
         let elf = dir
             .join("target")
             .join(img.target)
@@ -409,6 +475,53 @@ pub fn qemu() -> Result<(), String> {
         );
         if !log.lines().any(|l| l.starts_with("DONE ")) {
             return Err(format!("{label}: no DONE line\n{log}"));
+        }
+        if img.kind == Kind::Ray {
+            for line in log.lines() {
+                let Some(rest) = line.strip_prefix("RAY ") else {
+                    continue;
+                };
+                let f: Vec<&str> = rest.split_whitespace().collect();
+                let [board, name, w, h, ..] = f.as_slice() else {
+                    return Err(format!("bad line: {line}"));
+                };
+                let file = out_dir.join(format!("ray-{name}.rgb565"));
+                let mcu = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+                let mut ls = pipeline::load_arg(name)?;
+                ls.desc.width = w.parse().map_err(|_| format!("bad line: {line}"))?;
+                ls.desc.height = h.parse().map_err(|_| format!("bad line: {line}"))?;
+                let host = fixshade_sim::raycast::render(&ls)?.bytes;
+                checked += 1;
+                ray_frames += 1;
+                if mcu != host {
+                    mismatched.push(format!(
+                        "{board} ray {name}: {} bytes on the MCU, {} on the host, {}",
+                        mcu.len(),
+                        host.len(),
+                        first_difference(&mcu, &host)
+                    ));
+                }
+                ray_rows.push(rest.to_string());
+            }
+            continue;
+        }
+        if img.kind == Kind::Catalogue {
+            let crate::catalogue::Checked {
+                frames: n,
+                bad,
+                rows,
+                skipped,
+            } = crate::catalogue::check(&log, &out_dir)?;
+            eprintln!(
+                "xtask: {label}: {n} catalogue frames compared, {} cases skipped",
+                skipped.len()
+            );
+            checked += n;
+            catalogue_frames += n;
+            mismatched.extend(bad);
+            catalogue_rows.extend(rows);
+            catalogue_skipped.extend(skipped);
+            continue;
         }
         let mut layout: HashMap<String, (u32, usize)> = HashMap::new();
         for line in log.lines() {
@@ -469,6 +582,12 @@ pub fn qemu() -> Result<(), String> {
         }
     }
     let (mut md, csv) = tables(&rows, &setup_lines, &sizes, &calibration);
+    md.push_str(&catalogue_table(
+        catalogue_frames,
+        &catalogue_rows,
+        &catalogue_skipped,
+    ));
+    md.push_str(&ray_table(ray_frames, &ray_rows));
     if !layout_differs.is_empty() {
         md.push_str(
             "\n## Strip and chunk renders that differ from the whole frame\n\n\
@@ -500,6 +619,59 @@ pub fn qemu() -> Result<(), String> {
     }
     println!("qemu: {checked} frames bit-identical to the host render of the same scene, method and strip/chunk layout");
     Ok(())
+}
+
+/// The ray-caster section of the document.
+fn ray_table(frames: usize, rows: &[String]) -> String {
+    let mut md = format!(
+        "\n## Ray caster\n\n\
+         `fixshade render --shading raycast` of the built-in scenes at a small size, with their\n\
+         own sampling (segment L, threshold K in Q8 8-bit levels; the exact Blinn specular),\n\
+         baked by `cargo xtask bake-ray`; {frames} frames, each identical to the host's bytes.\n\
+         `prepare` is `Caster::prepare`, `sampling` the rows (`fill_row`, every ray cast in it).\n\n\
+         | board | scene | width | height | L | K (Q8) | evaluations | prepare | sampling | per evaluation |\n\
+         | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+    );
+    for r in rows {
+        let f: Vec<&str> = r.split_whitespace().collect();
+        if let [_, _, _, _, _, _, e, _, s] = f.as_slice() {
+            let per = fmt_per(s.parse().unwrap_or(0), e.parse().unwrap_or(0));
+            let _ = writeln!(md, "| {} | {per} |", f.join(" | "));
+        }
+    }
+    md
+}
+
+/// The catalogue section of the document.
+fn catalogue_table(frames: usize, rows: &[String], skipped: &[String]) -> String {
+    let mut md = format!(
+        "\n## Hard-case triangle catalogue\n\n\
+         Every case of tests/catalogue/triangles.toml (baked into\n\
+         boards/baked/catalogue/triangles.rs) drawn with `draw_triangle` by every span method in\n\
+         four modes (flat and Gouraud, each without and with the u16 depth test) into Rgb888\n\
+         rows; colour and depth bytes compared with the host drawing the same case:\n\
+         {frames} frames, all identical. The Cortex-M0 draws each case in strips of as many rows\n\
+         as its RAM holds and is compared with the host drawing all rows at once.\n\
+         `instructions` are those of the draws over all 60 method × mode frames of the case.\n\n\
+         | board | case | width | first row | rows | rows per strip | pixels | instructions |\n\
+         | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+    );
+    for r in rows {
+        let f: Vec<&str> = r.split_whitespace().collect();
+        let _ = writeln!(md, "| {} |", f.join(" | "));
+    }
+    if !skipped.is_empty() {
+        md.push_str(
+            "\nNot drawn (one row with its depth row does not fit the board's strip buffers):\n\n",
+        );
+        for s in skipped {
+            let f: Vec<&str> = s.split_whitespace().collect();
+            if let [board, name, width] = f.as_slice() {
+                let _ = writeln!(md, "- {board}: {name} ({width} pixels wide)");
+            }
+        }
+    }
+    md
 }
 
 fn tables(

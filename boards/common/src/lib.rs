@@ -12,6 +12,9 @@
 #![no_std]
 #![deny(missing_docs, unsafe_code)]
 
+#[cfg(feature = "catalogue")]
+pub mod catalogue;
+
 use core::marker::PhantomData;
 use core::sync::atomic::{AtomicU32, Ordering};
 

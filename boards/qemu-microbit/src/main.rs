@@ -222,6 +222,62 @@ fn run() -> Result<(), &'static str> {
         )?;
         let _ = log.write(&mut Console, BOARD, name, case);
     }
+    #[cfg(feature = "bench-sphere")]
+    setup_cost(scene, chunks, &mut cache[..], &mut counter)?;
+    Ok(())
+}
+
+/// Instructions of triangle setup alone, as on the Cortex-M4 image: per chunk, the
+/// vertex stage, then the same loop over the chunk's drawable front faces with and
+/// without the call to `setup`; the differences summed over the chunks and divided
+/// by the triangles (by `cargo xtask qemu`). Logged as `SETUP board figure triangles
+/// with without`.
+#[cfg(feature = "bench-sphere")]
+#[inline(never)]
+fn setup_cost(
+    scene: &mut Scene<'static>,
+    chunks: &[fig::Chunk],
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    use fixshade::clip::signed_area;
+    use fixshade::raster::setup::setup;
+    use fixshade::render::NEEDED;
+    let (mut n, mut with, mut without) = (0u32, 0u64, 0u64);
+    for c in chunks {
+        prepare(scene, c, cache, counter)?;
+        let verts = &cache[..c.0.len()];
+        let pass = |call: bool, counter: &mut Counter| {
+            let mut k = 0u32;
+            let ((), cost) = counter.measure(|| {
+                for t in c.2 {
+                    let v = t.map(|i| verts[i as usize]);
+                    if v.iter()
+                        .any(|x| x.flags & OUTSIDE != 0 || x.flags & NEEDED == 0)
+                    {
+                        continue;
+                    }
+                    let s = v.map(|x| x.s);
+                    if signed_area((s[0].x, s[0].y), (s[1].x, s[1].y), (s[2].x, s[2].y)) >= 0 {
+                        continue;
+                    }
+                    k += 1;
+                    if call {
+                        core::hint::black_box(setup(core::hint::black_box(s)));
+                    } else {
+                        core::hint::black_box(core::hint::black_box(s));
+                    }
+                }
+            });
+            (k, cost)
+        };
+        let (k, a) = pass(true, counter);
+        let (_, b) = pass(false, counter);
+        n += k;
+        with += a;
+        without += b;
+    }
+    let _ = writeln!(Console, "SETUP {BOARD} {} {n} {with} {without}", FIGURE.0);
     Ok(())
 }
 
