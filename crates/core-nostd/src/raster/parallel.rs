@@ -72,16 +72,66 @@ fn put<P: PixelFormat, Z: DepthMode>(
 /// `K` accumulators, the j-th starting at `v + j·ΔI`, each stepping by `K·ΔI`
 /// (seed 000 §3.1). `K = 2` is the even/odd scheme: on an odd-length span the second
 /// accumulator stops one step early.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::raster::parallel::KWay;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // Three accumulators stepping 3·ΔI: the same pixels as the constant gradient.
+/// assert_eq!(draw::<KWay<3>>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct KWay<const K: usize>;
 
 /// The seed's even/odd method: one accumulator for the even pixels `x0, x0+2, …`,
 /// one for the odd ones, both stepping by 2·ΔI. The same computation as
 /// [`KWay<2>`] under its own name.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::raster::parallel::EvenOdd;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // Two accumulators over the even and odd pixels: the same pixels.
+/// assert_eq!(draw::<EvenOdd>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct EvenOdd;
 
 /// Lane starting offsets `j·ΔI` for j < K and the common step `K·ΔI`.
+///
+/// ```
+/// use fixshade::raster::parallel::{KWay, Lanes};
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::span::SpanMethod;
+/// use fixshade::raster::ScreenVertex;
+/// let v = |x: i32, y: i32, r: i32| ScreenVertex { x, y, z: 0, c: [r, 0, 0] };
+/// let s = setup([v(0, 0, 0), v(160, 0, 10 << 16), v(0, 160, 0)]).unwrap();
+/// // Computed once per triangle: K starting offsets j·ΔI and the step K·ΔI.
+/// let lanes: Lanes<4> = KWay::<4>::prepare(&s);
+/// assert!(format!("{lanes:?}").contains("step"));
+/// ```
 #[derive(Copy, Clone, Debug)]
 pub struct Lanes<const K: usize> {
     start: [[i32; ATTRS]; K],
@@ -166,6 +216,25 @@ impl SpanMethod for EvenOdd {
 
 /// Two interpolators, one from each end of the span towards its middle (seed 000
 /// §3.2): the front one adds ΔI, the back one, starting at `v + (n−1)·ΔI`, subtracts it.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::raster::parallel::Counter;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // Two interpolators meeting in the middle of each span: the same pixels.
+/// assert_eq!(draw::<Counter>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Counter;
 
@@ -236,11 +305,43 @@ pub const MAX_SEGMENT: usize = 32;
 /// lanes (structure of arrays, branch-free depth test as a select), which the
 /// compiler turns into SIMD instructions on the host and into independent
 /// instructions an in-order MCU pipeline can overlap.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::raster::parallel::Segment;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // Eight units filling segments of 8 pixels: the same pixels.
+/// assert_eq!(draw::<Segment<8>>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Segment<const P: usize>;
 
 /// Per-triangle lane offsets `i·ΔI` for i < w, one array per attribute, and the
 /// segment step `w·ΔI`.
+///
+/// ```
+/// use fixshade::raster::parallel::{Segment, SegmentLanes};
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::span::SpanMethod;
+/// use fixshade::raster::ScreenVertex;
+/// let v = |x: i32, y: i32, r: i32| ScreenVertex { x, y, z: 0, c: [r, 0, 0] };
+/// let s = setup([v(0, 0, 0), v(160, 0, 10 << 16), v(0, 160, 0)]).unwrap();
+/// // 16 units fill segments of 14 pixels; the offsets i·ΔI are computed once per triangle.
+/// assert_eq!(Segment::<16>::W, 14);
+/// let lanes: SegmentLanes = Segment::<16>::prepare(&s);
+/// assert!(format!("{lanes:?}").contains("off"));
+/// ```
 #[derive(Copy, Clone, Debug)]
 pub struct SegmentLanes {
     off: [[i32; MAX_SEGMENT]; ATTRS],

@@ -181,6 +181,25 @@ pub fn replicable(s: &Setup) -> bool {
 
 /// The exact variant: replicates where the deltas are even pixels, otherwise draws
 /// like [`Gradient`]. Output is identical to `Gradient`'s, bit for bit.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::raster::sierpinski::SierpinskiExact;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // Replicates only where the deltas allow it exactly: the same pixels.
+/// assert_eq!(draw::<SierpinskiExact>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct SierpinskiExact;
 

@@ -21,6 +21,14 @@ use core::marker::PhantomData;
 ///
 /// The crossings are exact rationals: an edge stepper at row `y` crosses the row at
 /// `q − r/d` in pixel-centre coordinates (pixel x has its centre at x).
+///
+/// ```
+/// use fixshade::raster::span::EdgeValues;
+/// // Filled by the edge walker for methods with `EDGE_VALUES = true` (classic); the
+/// // default is an empty placeholder with a valid stepper (d = 1).
+/// let e = EdgeValues::default();
+/// assert_eq!((e.left.d, e.il), (1, [0; 4]));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct EdgeValues {
     /// The left edge's stepper on this row.
@@ -52,6 +60,13 @@ impl Default for EdgeValues {
 }
 
 /// One row's worth of work for a span method.
+///
+/// ```
+/// use fixshade::raster::span::{EdgeValues, Span};
+/// // Row 7, pixels 10..14, red 0.5 in Q.16 channel units at x = 10, depth 0.
+/// let s = Span { y: 7, x0: 10, x1: 14, v: [1 << 15, 0, 0, 0], edges: EdgeValues::default() };
+/// assert_eq!(s.x1 - s.x0, 4);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Span {
     /// Pixel row.
@@ -67,6 +82,12 @@ pub struct Span {
 }
 
 /// Depth handling, chosen once per draw call.
+///
+/// ```
+/// use fixshade::raster::span::{DepthMode, DepthTest, NoDepth};
+/// // Chosen by type, so a frame without depth has no depth code in its pixel loop.
+/// assert!(DepthTest::TEST && !NoDepth::TEST);
+/// ```
 pub trait DepthMode {
     /// True to test and write the u16 depth buffer.
     const TEST: bool;
@@ -74,9 +95,28 @@ pub trait DepthMode {
 
 /// Test and write depth: a pixel is drawn when its depth is strictly below the
 /// stored one.
+///
+/// ```
+/// use fixshade::raster::span::{pack_pixel, DepthTest};
+/// use fixshade::target::Gray8;
+/// let (mut c, mut d) = (0u8, 0xFFFFu16);
+/// pack_pixel::<Gray8, DepthTest>(&mut c, &mut d, &[200 << 16, 0, 0, 9 << 16]);
+/// assert_eq!((c, d), (200, 9));
+/// // A tie is not nearer: the first writer keeps the pixel.
+/// pack_pixel::<Gray8, DepthTest>(&mut c, &mut d, &[50 << 16, 0, 0, 9 << 16]);
+/// assert_eq!(c, 200);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct DepthTest;
 /// Ignore depth; later triangles overwrite earlier ones.
+///
+/// ```
+/// use fixshade::raster::span::{pack_pixel, NoDepth};
+/// use fixshade::target::Gray8;
+/// let (mut c, mut d) = (0u8, 0u16);
+/// pack_pixel::<Gray8, NoDepth>(&mut c, &mut d, &[77 << 16, 0, 0, 9 << 16]);
+/// assert_eq!((c, d), (77, 0)); // written regardless of depth; depth untouched
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct NoDepth;
 
@@ -88,6 +128,41 @@ impl DepthMode for NoDepth {
 }
 
 /// How a span's pixel values are computed.
+///
+/// ```
+/// use fixshade::raster::setup::Setup;
+/// use fixshade::raster::span::{write_run, DepthMode, NoDepth, Span, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::{Gouraud, Shading};
+/// use fixshade::target::{Framebuffer, Gray8, PixelFormat};
+///
+/// /// A custom method: every span in the colour of its first pixel.
+/// struct PerSpan;
+/// impl SpanMethod for PerSpan {
+///     const NAME: &'static str = "per-span";
+///     const EDGE_VALUES: bool = false;
+///     type Tri = ();
+///     fn prepare(_: &Setup) {}
+///     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+///         color: &mut [P::Raw],
+///         depth: &mut [u16],
+///         span: &Span,
+///         _tri: &Setup,
+///         _: &(),
+///     ) {
+///         write_run::<P, Z, Sh>(color, depth, span.v, &[0; 4]);
+///     }
+/// }
+///
+/// let mut px = [0u8; 16 * 16];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 16, 16).unwrap();
+/// let v = |x: i32, y: i32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [g << 16, 0, 0] };
+/// draw_triangle::<Gray8, _, PerSpan, NoDepth, Gouraud>(&mut fb, [v(0, 0, 0), v(0, 16, 0), v(16, 0, 240)]);
+/// for row in px.chunks(16) {
+///     let lit: Vec<u8> = row.iter().copied().filter(|&p| p > 0).collect();
+///     assert!(lit.windows(2).all(|w| w[0] == w[1]));
+/// }
+/// ```
 pub trait SpanMethod {
     /// Name used by the CLI and scene files.
     const NAME: &'static str;
@@ -149,6 +224,15 @@ pub(crate) fn depth_of(z: i32) -> u16 {
 
 /// The pixel stage for one pixel: depth test (strictly nearer wins), pack, store.
 /// `d` is ignored without a depth test.
+///
+/// ```
+/// use fixshade::raster::span::{pack_pixel, DepthTest};
+/// use fixshade::target::{PixelFormat, Rgb565Le};
+/// let (mut c, mut d) = (0u16, 0xFFFFu16);
+/// // Channels in Q.16 5-6-5 units (rounded), depth Q16.16.
+/// pack_pixel::<Rgb565Le, DepthTest>(&mut c, &mut d, &[31 << 16, 32 << 16, 0, 100 << 16]);
+/// assert_eq!((Rgb565Le::unpack(c), d), ([31, 32, 0], 100));
+/// ```
 #[inline(always)]
 pub fn pack_pixel<P: PixelFormat, Z: DepthMode>(c: &mut P::Raw, d: &mut u16, v: &[i32; ATTRS]) {
     if Z::TEST {
@@ -229,6 +313,16 @@ impl<P: PixelFormat> Packed<P> {
 /// The pixel stage: writes `color.len()` pixels starting from values `v`, stepping
 /// by `g` per pixel (wrapping adds: exact modulo 2³², see `setup`). The attributes are
 /// held in separate scalars so the loop keeps them in registers.
+///
+/// ```
+/// use fixshade::raster::span::{write_run, NoDepth};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::Gray8;
+/// let mut row = [0u8; 5];
+/// // Grey 10 at the first pixel, +20 per pixel.
+/// write_run::<Gray8, NoDepth, Gouraud>(&mut row, &mut [], [10 << 16, 0, 0, 0], &[20 << 16, 0, 0, 0]);
+/// assert_eq!(row, [10, 30, 50, 70, 90]);
+/// ```
 #[inline(always)]
 pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
     color: &mut [P::Raw],
@@ -304,6 +398,13 @@ pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
 
 /// The constant-gradient method (seed 000 §2.1): the per-pixel increment is the
 /// triangle's `Gx`, computed once in setup; no division per span.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, SpanMethod};
+/// // The default method: one add per attribute per pixel, increments fixed per triangle.
+/// assert_eq!(Gradient::NAME, "gradient");
+/// assert!(!Gradient::EDGE_VALUES && !Gradient::SNAPS);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Gradient;
 
@@ -352,6 +453,25 @@ impl SpanMethod for Gradient {
 /// by at most `η·|I_R − I_L|` plus the truncations above: `η·256` output steps for a
 /// colour channel.
 /// Coverage does not depend on `D`.
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::raster::span::Classic;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // One division per span (the idx3d loop), exact rational crossings: the same pixels.
+/// assert_eq!(draw::<Classic>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Classic<D: Divide = Exact>(PhantomData<D>);
 
@@ -438,6 +558,26 @@ impl<D: Divide> SpanMethod for Classic<D> {
 /// slivers, whose increments are large, can leave the channel range. Coverage does
 /// not depend on `D` (the edges never use the reciprocal; only the orientation,
 /// whose sign the reciprocal keeps).
+///
+/// ```
+/// use fixshade::raster::span::{Gradient, NoDepth, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Rgb565Le};
+/// use fixshade::divide::Exact;
+/// use fixshade::raster::span::WithDivide;
+/// // Draws one Gouraud triangle with method `S` into a 40×30 frame.
+/// fn draw<S: SpanMethod>() -> [u16; 40 * 30] {
+///     let mut px = [0u16; 40 * 30];
+///     let mut fb = Framebuffer::<Rgb565Le>::new(&mut px, None, 40, 30).unwrap();
+///     let v = |x: i32, y: i32, c: [i32; 3]| ScreenVertex { x, y, z: 0, c };
+///     let tri = [v(13, 7, [31 << 16, 0, 0]), v(600, 200, [0, 63 << 16, 0]), v(90, 470, [0, 0, 31 << 16])];
+///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
+///     px
+/// }
+/// // The exact divider keeps the setup's full-precision reciprocal: the same pixels.
+/// assert_eq!(draw::<WithDivide<Gradient, Exact>>(), draw::<Gradient>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct WithDivide<S, D>(PhantomData<(S, D)>);
 
