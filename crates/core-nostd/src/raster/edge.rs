@@ -21,6 +21,20 @@
 //! The starting `N` needs up to 2³⁵ and is computed once in `i64`.
 
 /// An edge being stepped row by row.
+///
+/// ```
+/// use fixshade::raster::edge::EdgeStepper;
+/// // The edge from (0, 0) to (4, 8) pixels (Q12.4), from pixel row 0: the crossing
+/// // moves half a pixel per row, so q advances by one every other row.
+/// let mut e = EdgeStepper::new((0, 0), (64, 128), 0);
+/// let mut q = vec![e.q];
+/// for _ in 0..5 {
+///     e.step();
+///     q.push(e.q);
+/// }
+/// assert_eq!(q, [0, 1, 1, 2, 2, 3]);
+/// assert!(0 <= e.r && e.r < e.d);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct EdgeStepper {
     /// First pixel at or right of the edge on the current row.
@@ -105,6 +119,14 @@ impl EdgeStepper {
 }
 
 /// The first pixel row whose centre is at or below `y` (Q12.4): `⌈(y − 8) / 16⌉`.
+///
+/// ```
+/// use fixshade::raster::edge::first_row;
+/// // Row 2's centre is at y = 2.5 pixels (40 in Q12.4).
+/// assert_eq!(first_row(40), 2);
+/// assert_eq!(first_row(41), 3);
+/// assert_eq!(first_row(-8), 0);
+/// ```
 #[inline]
 pub fn first_row(y: i32) -> i32 {
     ceil_div(y as i64 - 8, 16) as i32

@@ -50,6 +50,13 @@ pub const SUBPIXEL_BITS: u32 = 4;
 pub const GUARD: i32 = 4096 << SUBPIXEL_BITS;
 
 /// A vertex in screen space.
+///
+/// ```
+/// use fixshade::raster::ScreenVertex;
+/// // Pixel (10.5, 3.25), depth 0.5, full red in RGB565 channel units (Q.16).
+/// let v = ScreenVertex { x: 168, y: 52, z: 32767 << 16, c: [31 << 16, 0, 0] };
+/// assert_eq!((v.x / 16, v.y / 16), (10, 3));
+/// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct ScreenVertex {
     /// x in Q12.4 (1/16 pixel), the left edge of the frame at 0.
@@ -116,6 +123,21 @@ impl EdgeAttrs {
 ///
 /// Vertices must lie inside the guard band; vertices outside are rejected (nothing is
 /// drawn), never wrapped.
+///
+/// ```
+/// use fixshade::raster::span::{DepthTest, Gradient};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::Flat;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// let (mut px, mut z) = ([0u8; 8 * 8], [0xFFFFu16; 8 * 8]);
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 8, 8).unwrap();
+/// let v = |x: i32, y: i32, depth: u32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: depth << 16, c: [g << 16; 3] };
+/// // A near dark square's half drawn after a far bright one: the near one wins.
+/// let far = draw_triangle::<Gray8, _, Gradient, DepthTest, Flat>(&mut fb, [v(0, 0, 900, 250), v(0, 8, 900, 250), v(8, 0, 900, 250)]);
+/// let near = draw_triangle::<Gray8, _, Gradient, DepthTest, Flat>(&mut fb, [v(0, 0, 100, 50), v(0, 8, 100, 50), v(8, 0, 100, 50)]);
+/// assert_eq!(far, near); // covered pixels are counted before the depth test
+/// assert_eq!(px[0], 50);
+/// ```
 pub fn draw_triangle<P, T, S, Z, Sh>(target: &mut T, v: [ScreenVertex; 3]) -> u32
 where
     P: PixelFormat,
@@ -138,6 +160,27 @@ where
 
 /// Rasterizes a triangle that has been set up: walks its edges and hands every span
 /// to `S::fill`. This is the default of [`SpanMethod::draw`].
+///
+/// ```
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::span::{Gradient, NoDepth};
+/// use fixshade::raster::{draw_setup, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [100 << 16; 3] };
+/// let s = setup([v(0, 0), v(0, 8), v(8, 0)]).unwrap();
+/// // Set up once, draw into two strips of the same 8×8 frame.
+/// let mut top = [0u8; 8 * 4];
+/// let mut bottom = [0u8; 8 * 4];
+/// let mut a = fixshade::target::Strip::<Gray8>::new(&mut top, None, 8, 8, 0, 4).unwrap();
+/// let mut b = fixshade::target::Strip::<Gray8>::new(&mut bottom, None, 8, 8, 4, 4).unwrap();
+/// let n = draw_setup::<Gray8, _, Gradient, NoDepth, Gouraud>(&mut a, &s)
+///     + draw_setup::<Gray8, _, Gradient, NoDepth, Gouraud>(&mut b, &s);
+/// let mut whole = [0u8; 64];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut whole, None, 8, 8).unwrap();
+/// assert_eq!(n, draw_setup::<Gray8, _, Gradient, NoDepth, Gouraud>(&mut fb, &s));
+/// assert_eq!([top, bottom].concat(), whole);
+/// ```
 pub fn draw_setup<P, T, S, Z, Sh>(target: &mut T, s: &Setup) -> u32
 where
     P: PixelFormat,
@@ -165,6 +208,17 @@ where
 
 /// The rows a set-up triangle covers inside `rows`: `(top, middle, bottom)`, where
 /// `[top, bottom)` is non-empty and `middle` is the first row of the lower half.
+///
+/// ```
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::{row_range, ScreenVertex};
+/// let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [0; 3] };
+/// let s = setup([v(0, 2), v(0, 10), v(8, 6)]).unwrap();
+/// // Rows 2..10, the lower half from row 6; clipped to a strip of rows 4..8.
+/// assert_eq!(row_range(&s, 0..100), Some((2, 6, 10)));
+/// assert_eq!(row_range(&s, 4..8), Some((4, 6, 8)));
+/// assert_eq!(row_range(&s, 20..30), None);
+/// ```
 #[inline]
 pub fn row_range(s: &Setup, rows: core::ops::Range<i32>) -> Option<(i32, i32, i32)> {
     let [t, m, b] = s.v;
@@ -177,6 +231,24 @@ pub fn row_range(s: &Setup, rows: core::ops::Range<i32>) -> Option<(i32, i32, i3
 /// `fill(colour, depth, span)` for every non-empty span clipped to the target, with
 /// the row's colour and depth slices for `[x0, x1)` (depth empty unless `Z::TEST`).
 /// Returns the number of pixels covered. `edge_values` asks for [`Span::edges`].
+///
+/// ```
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::raster::{row_range, scan, ScreenVertex};
+/// use fixshade::target::{Framebuffer, Gray8, Target};
+/// let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [0; 3] };
+/// let s = setup([v(0, 0), v(0, 4), v(4, 0)]).unwrap();
+/// let mut px = [0u8; 4 * 4];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 4, 4).unwrap();
+/// let rows = row_range(&s, fb.rows()).unwrap();
+/// // A custom fill: mark each span with its length.
+/// let n = scan::<Gray8, _, NoDepth, _>(&mut fb, &s, rows, false, |color, _depth, span| {
+///     color.fill((span.x1 - span.x0) as u8);
+/// });
+/// assert_eq!(n, 6);
+/// assert_eq!(px, [3, 3, 3, 0, 2, 2, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0]);
+/// ```
 #[inline(always)]
 pub fn scan<P, T, Z, F>(
     target: &mut T,

@@ -52,12 +52,33 @@ use crate::target::{to_channels, PixelFormat, Target};
 
 /// Lights one pixel: eye-space position (Q16.16) and unit normal (Q2.30) to a colour
 /// (Q16.16 per channel, 0..=1). [`crate::light::LightingSetup`] implements it.
+///
+/// ```
+/// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+/// use fixshade::math::{Mat4, ONE_Q30};
+/// use fixshade::raster::phong::PixelLight;
+/// use fixshade::fixed::Q16_16;
+/// // The frame's lighting is a `PixelLight`; any other rule can be too.
+/// let white = [Q16_16::ONE; 3];
+/// let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white);
+/// let l: LightingSetup<BlinnExact> =
+///     LightingSetup::new(&[sun], &Mat4::IDENTITY, &Material::default(), [Q16_16::ZERO; 3], false);
+/// assert_eq!(l.light([0; 3], [0, 0, ONE_Q30]), l.shade([0; 3], [0, 0, ONE_Q30]));
+/// ```
 pub trait PixelLight {
     /// The lit colour.
     fn light(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3];
 }
 
 /// A vertex for Phong shading.
+///
+/// ```
+/// use fixshade::math::ONE_Q30;
+/// use fixshade::raster::phong::PhongVertex;
+/// // Pixel (4, 2), depth 0, normal towards the viewer, eye position (0, 0, -3).
+/// let v = PhongVertex { x: 4 * 16, y: 2 * 16, z: 0, n: [0, 0, ONE_Q30], p: [0, 0, -3 << 16] };
+/// assert_eq!(v.n[2], 1 << 30);
+/// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct PhongVertex {
     /// x in Q12.4.
@@ -73,6 +94,12 @@ pub struct PhongVertex {
 }
 
 /// How the spans of a Phong triangle are filled.
+///
+/// ```
+/// use fixshade::raster::phong::{EvenOdd, PhongFill, Rows};
+/// assert_eq!((Rows::NAME, Rows::EVEN_ODD), ("phong", false));
+/// assert_eq!((EvenOdd::NAME, EvenOdd::EVEN_ODD), ("phong-even-odd", true));
+/// ```
 pub trait PhongFill {
     /// Name (`phong` or `phong-even-odd`).
     const NAME: &'static str;
@@ -81,10 +108,54 @@ pub trait PhongFill {
 }
 
 /// One accumulator per attribute, stepping pixel by pixel.
+///
+/// ```
+/// use fixshade::raster::phong::{draw_phong, EvenOdd, PhongFill, PhongVertex, PixelLight, Rows};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// /// Grey from the normal's x component.
+/// struct Side;
+/// impl PixelLight for Side {
+///     fn light(&self, _p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+///         [n[0].max(0) >> 14; 3]
+///     }
+/// }
+/// fn draw<F: PhongFill>() -> [u8; 24 * 24] {
+///     let mut px = [0u8; 24 * 24];
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 24, 24).unwrap();
+///     let v = |x: i32, y: i32, nx: i32| PhongVertex { x, y, z: 0, n: [nx, 0, 1 << 29], p: [0; 3] };
+///     draw_phong::<Gray8, _, NoDepth, F, _>(&mut fb, [v(5, 9, 0), v(20, 370, 1 << 30), v(380, 40, 1 << 29)], &Side);
+///     px
+/// }
+/// // Both fills light the same lattice values: the same pixels.
+/// assert_eq!(draw::<Rows>(), draw::<EvenOdd>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Rows;
 
 /// Two accumulators per attribute stepping `2·G` over the even and odd pixels.
+///
+/// ```
+/// use fixshade::raster::phong::{draw_phong, EvenOdd, PhongFill, PhongVertex, PixelLight, Rows};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// /// Grey from the normal's x component.
+/// struct Side;
+/// impl PixelLight for Side {
+///     fn light(&self, _p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+///         [n[0].max(0) >> 14; 3]
+///     }
+/// }
+/// fn draw<F: PhongFill>() -> [u8; 24 * 24] {
+///     let mut px = [0u8; 24 * 24];
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 24, 24).unwrap();
+///     let v = |x: i32, y: i32, nx: i32| PhongVertex { x, y, z: 0, n: [nx, 0, 1 << 29], p: [0; 3] };
+///     draw_phong::<Gray8, _, NoDepth, F, _>(&mut fb, [v(5, 9, 0), v(20, 370, 1 << 30), v(380, 40, 1 << 29)], &Side);
+///     px
+/// }
+/// // Both fills light the same lattice values: the same pixels.
+/// assert_eq!(draw::<EvenOdd>(), draw::<Rows>());
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct EvenOdd;
 
@@ -208,6 +279,8 @@ fn depth_pass<Z: DepthMode>(d: Option<&mut u16>, z: i32) -> bool {
 /// Rasterizes a Phong triangle, lighting every covered pixel with `light`. Returns
 /// the number of pixels covered (before the depth test). Zero-area triangles and
 /// vertices outside the guard band draw nothing.
+///
+/// See the [module docs](self) for an example.
 pub fn draw_phong<P, T, Z, F, L>(target: &mut T, v: [PhongVertex; 3], light: &L) -> u32
 where
     P: PixelFormat,

@@ -67,6 +67,16 @@ use crate::target::{PixelFormat, Target};
 pub const FRAC: u32 = 40;
 
 /// The fitted surface of one triangle.
+///
+/// ```
+/// use fixshade::raster::quadratic::Quad;
+/// use fixshade::raster::ScreenVertex;
+/// let v = |x: i32, y: i32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [g << 16, 0, 0] };
+/// // Vertices dark, edge midpoints bright: a surface that bulges in the middle.
+/// let q = Quad::fit([v(0, 0, 0), v(0, 32, 0), v(32, 0, 0)], [[100 << 16, 0, 0]; 3]).unwrap();
+/// assert!(q.coef[0][0] < 0); // A (the x² term) is negative: a dome
+/// assert!(Quad::fit([v(0, 0, 0), v(8, 8, 0), v(16, 16, 0)], [[0; 3]; 3]).is_none());
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Quad {
     /// Anchor pixel: `i = x − anchor.0`, `j = y − anchor.1`.
@@ -265,6 +275,23 @@ fn add3(a: &mut [i64; 3], b: &[i64; 3]) {
 }
 
 /// How the surface is filled.
+///
+/// ```
+/// use fixshade::raster::quadratic::{draw_quadratic, Fill};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::raster::ScreenVertex;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// let draw = |fill: Fill| {
+///     let mut px = [0u8; 32 * 32];
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 32, 32).unwrap();
+///     let v = |x: i32, y: i32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [g << 16; 3] };
+///     let mid = [[200 << 16; 3], [120 << 16; 3], [60 << 16; 3]];
+///     draw_quadratic::<Gray8, _, NoDepth>(&mut fb, [v(1, 1, 10), v(3, 31, 90), v(30, 4, 250)], mid, fill);
+///     px
+/// };
+/// // The 2×2 block scheme of seed 003 and the row fill give the same pixels.
+/// assert_eq!(draw(Fill::Blocks), draw(Fill::Rows));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum Fill {
     /// Row by row, one forward-difference unit.
@@ -456,6 +483,22 @@ fn fill_pair<P: PixelFormat, T: Target<P>, Z: DepthMode>(
 
 /// Rasterizes a set-up triangle with the surface `q`. Returns the number of pixels
 /// covered inside the target (before the depth test).
+///
+/// ```
+/// use fixshade::raster::quadratic::{draw_setup_quad, Fill, Quad};
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::raster::ScreenVertex;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [50 << 16; 3] };
+/// let t = [v(0, 0), v(0, 16), v(16, 0)];
+/// // Midpoints equal to the vertices: the surface is flat, grey 50 everywhere.
+/// let (s, q) = (setup(t).unwrap(), Quad::fit(t, [[50 << 16; 3]; 3]).unwrap());
+/// let mut px = [0u8; 16 * 16];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 16, 16).unwrap();
+/// let n = draw_setup_quad::<Gray8, _, NoDepth>(&mut fb, &s, &q, Fill::Blocks);
+/// assert_eq!(px.iter().filter(|&&p| p == 50).count(), n as usize);
+/// ```
 pub fn draw_setup_quad<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     target: &mut T,
     s: &Setup,
@@ -504,6 +547,19 @@ pub fn draw_setup_quad<P: PixelFormat, T: Target<P>, Z: DepthMode>(
 /// Rasterizes one triangle with the quadratic surface through its vertex colours
 /// and the edge-midpoint colours `mid[k]` (edge `v[k] → v[(k + 1) % 3]`). Vertices
 /// outside the guard band or a zero area draw nothing.
+///
+/// ```
+/// use fixshade::raster::quadratic::{draw_quadratic, Fill};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::raster::ScreenVertex;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// let mut px = [0u8; 16 * 16];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 16, 16).unwrap();
+/// let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [0; 3] };
+/// // Black corners, white edge midpoints: the inside is lit although no vertex is.
+/// draw_quadratic::<Gray8, _, NoDepth>(&mut fb, [v(0, 0), v(0, 16), v(16, 0)], [[255 << 16; 3]; 3], Fill::Rows);
+/// assert!(px[4 * 16 + 4] > 100);
+/// ```
 pub fn draw_quadratic<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     target: &mut T,
     v: [ScreenVertex; 3],

@@ -32,6 +32,18 @@ pub const ATTRS: usize = 4;
 pub const ROUND_BIAS: i32 = 1 << 15;
 
 /// A triangle ready for the edge walker.
+///
+/// ```
+/// use fixshade::raster::setup::{setup, ROUND_BIAS};
+/// use fixshade::raster::ScreenVertex;
+/// let v = |x: i32, y: i32, r: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [r << 16, 0, 0] };
+/// // Red 0 at the left, 160 at x = 16 pixels: 10 per pixel, constant over the triangle.
+/// let s = setup([v(0, 16, 0), v(0, 0, 0), v(16, 0, 160)]).unwrap();
+/// assert_eq!(s.v[0].y, 0); // sorted: top first
+/// assert_eq!(s.gx[0], 10 << 16);
+/// assert_eq!(s.gy[0], 0);
+/// assert_eq!(s.at(3, 2)[0], (35 << 16) + ROUND_BIAS); // 10·3.5 at the pixel centre
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Setup {
     /// Vertices sorted by y (then x): top, middle, bottom.
@@ -138,12 +150,32 @@ impl Det {
 /// by more than 2³¹ units per pixel, but the lattice arithmetic is exact modulo 2³²
 /// and the true value at every covered pixel fits, so the result there is still exact
 /// to the bound above.
+///
+/// ```
+/// use fixshade::raster::setup::setup;
+/// use fixshade::raster::ScreenVertex;
+/// let v = |x: i32, y: i32| ScreenVertex { x, y, z: 0, c: [0; 3] };
+/// assert!(setup([v(0, 0), v(32, 0), v(0, 32)]).is_some());
+/// assert!(setup([v(0, 0), v(16, 16), v(32, 32)]).is_none()); // collinear: zero area
+/// ```
 pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
     setup_div::<Exact>(v)
 }
 
 /// [`setup`] with the determinant's reciprocal taken through the divider `D`
 /// ([`setup`] is `setup_div::<Exact>`).
+///
+/// ```
+/// use fixshade::divide::{Exact, ShiftAdd};
+/// use fixshade::raster::setup::{setup, setup_div};
+/// use fixshade::raster::ScreenVertex;
+/// let v = |x: i32, y: i32, r: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [r << 16, 0, 0] };
+/// let t = [v(0, 0, 0), v(37, 5, 200), v(3, 29, 90)];
+/// assert_eq!(setup_div::<Exact>(t), setup(t));
+/// // An 8-term shift-and-add reciprocal never over-estimates: increments shrink a little.
+/// let (e, a) = (setup(t).unwrap(), setup_div::<ShiftAdd<8>>(t).unwrap());
+/// assert!(a.gx[0].abs() <= e.gx[0].abs() && a.gx[0].abs() * 10 > e.gx[0].abs() * 9);
+/// ```
 pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
     setup_with_det_div::<D>(v).map(|(s, _)| s)
 }
