@@ -217,6 +217,14 @@ pub trait Divide {
 
 /// A reciprocal of a wide divisor `d` taken through the seam:
 /// `1/d ≈ r / 2^(30 + shift)`. See [`wide_recip`].
+///
+/// ```
+/// use fixshade::divide::{wide_recip, Table};
+/// // 1/1000 through the table: r/2^(30 + shift) with r = ⌊2^30/1000⌋, shift 0.
+/// let w = wide_recip::<Table>(1000);
+/// assert_eq!(w.shift, 0);
+/// assert_eq!(w.scaled(40), (1u128 << 40) / 1000 / 1024 * 1024);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct WideRecip {
     /// `≈ 2³⁰/k` (never above) for the mantissa `k` of `d`, in `1..=2³⁰`.
@@ -391,6 +399,14 @@ const fn build_table() -> [u32; K_MAX as usize] {
 pub static RECIP_TABLE: [u32; K_MAX as usize] = build_table();
 
 /// Prepared divisor of [`Table`]: the table entry and its shift.
+///
+/// ```
+/// use fixshade::divide::{Divide, Table, TableRecip};
+/// // Prepared once per divisor, used for every numerator of a span.
+/// let r: TableRecip = Table::recip(7);
+/// assert_eq!(Table::div(255, &r), 36);
+/// assert_eq!(Table::div(-255, &r), -36);
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct TableRecip {
     /// `m_k`, the table entry.
