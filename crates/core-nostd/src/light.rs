@@ -157,7 +157,7 @@ impl Default for Material {
 /// let c = 0x3800_0000; // N·H = 0.875 in Q2.30
 /// let n = Q16_16::from_int(8);
 /// let exact = BlinnExact::eval(&BlinnExact::prepare(n), c); // 0.875⁸ ≈ 0.344
-/// let approx = Schlick::eval(&Schlick::prepare(n), c); // c / (n − n·c + c) ≈ 0.467
+/// let approx = <Schlick>::eval(&<Schlick>::prepare(n), c); // c / (n − n·c + c) ≈ 0.467
 /// assert!((exact - 368947264).abs() < 1 << 8);
 /// assert!(approx > exact);
 /// ```

@@ -125,7 +125,8 @@ impl EdgeStepper {
 /// // Row 2's centre is at y = 2.5 pixels (40 in Q12.4).
 /// assert_eq!(first_row(40), 2);
 /// assert_eq!(first_row(41), 3);
-/// assert_eq!(first_row(-8), 0);
+/// assert_eq!(first_row(-7), 0);
+/// assert_eq!(first_row(-8), -1); // row −1's centre
 /// ```
 #[inline]
 pub fn first_row(y: i32) -> i32 {

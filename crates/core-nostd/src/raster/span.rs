@@ -469,8 +469,15 @@ impl SpanMethod for Gradient {
 ///     draw_triangle::<Rgb565Le, _, S, NoDepth, Gouraud>(&mut fb, tri);
 ///     px
 /// }
-/// // One division per span (the idx3d loop), exact rational crossings: the same pixels.
-/// assert_eq!(draw::<Classic>(), draw::<Gradient>());
+/// // One division per span (the idx3d loop) from exact rational edge crossings: the
+/// // same coverage, and every channel within one step of the constant gradient.
+/// use fixshade::target::PixelFormat;
+/// let (c, g) = (draw::<Classic>(), draw::<Gradient>());
+/// for (a, b) in c.iter().zip(g.iter()) {
+///     assert_eq!(*a == 0, *b == 0);
+///     let (a, b) = (Rgb565Le::unpack(*a), Rgb565Le::unpack(*b));
+///     assert!((0..3).all(|k| a[k].abs_diff(b[k]) <= 1));
+/// }
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Classic<D: Divide = Exact>(PhantomData<D>);
