@@ -38,6 +38,7 @@ pub mod clip;
 #[cfg(feature = "defmt")]
 mod defmt_impls;
 pub mod divide;
+pub mod effects;
 #[cfg(feature = "embedded-graphics")]
 pub mod eg;
 pub mod fixed;

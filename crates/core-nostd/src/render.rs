@@ -68,6 +68,8 @@ use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
 use crate::shade::{Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
 use crate::target::{to_channels, PixelFormat, Target};
 
+mod adaptive;
+
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
 /// target's channel units, and flags.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -190,6 +192,9 @@ pub struct Stats {
     /// Triangles that asked for the quadratic surface but were drawn with Gouraud
     /// (those that went through the clipper: their pieces have no midpoint colours).
     pub fallback: u32,
+    /// Adaptive shading only: triangles (clipped pieces count once per triangle)
+    /// that a highlight may reach and so were drawn with per-pixel lighting.
+    pub per_pixel: u32,
 }
 
 impl core::ops::AddAssign for Stats {
@@ -200,6 +205,7 @@ impl core::ops::AddAssign for Stats {
         self.drawn += o.drawn;
         self.pixels += o.pixels;
         self.fallback += o.fallback;
+        self.per_pixel += o.per_pixel;
     }
 }
 
@@ -355,6 +361,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             (false, ShadingMode::PhongEvenOdd) => {
                 self.draw_with::<S, NoDepth, PhongEvenOdd, T>(target)
             }
+            (true, ShadingMode::Adaptive) => {
+                self.draw_with::<S, DepthTest, crate::shade::Adaptive, T>(target)
+            }
+            (false, ShadingMode::Adaptive) => {
+                self.draw_with::<S, NoDepth, crate::shade::Adaptive, T>(target)
+            }
         }
     }
 
@@ -368,6 +380,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     ) -> Result<Stats, RenderError> {
         if target.width() != self.vp.width || target.frame_height() != self.vp.height {
             return Err(RenderError::TargetSizeMismatch);
+        }
+        if Sh::ADAPTIVE {
+            return self.draw_adaptive::<Z, T>(target);
         }
         if Sh::QUADRATIC {
             return self.draw_quadratic::<Z, Sh, T>(target);
