@@ -505,8 +505,96 @@ impl<S: Specular> LightingSetup<S> {
             let s = S::eval_wide(&self.spec, max_nh as i32);
             // As in `shade`: att ≤ 2^31 (Q16.16), s ≤ 2^36 (Q.30).
             let f = ((att as i128 * s as i128) >> 30) as i64;
-            let top = light.spec.iter().map(|sp| (sp * f) >> 16).max().unwrap_or(0);
+            let top = light
+                .spec
+                .iter()
+                .map(|sp| (sp * f) >> 16)
+                .max()
+                .unwrap_or(0);
             total = total.saturating_add(top + 1);
+        }
+        total
+    }
+}
+
+impl<S: Specular> LightingSetup<S> {
+    /// An upper bound (Q16.16, the largest channel, summed over the lights) of how
+    /// far the ambient and diffuse part of a Gouraud-shaded triangle can be from the
+    /// same part lit per pixel (Phong), for eye-space unit vertex normals `n` and
+    /// positions `p` as in [`LightingSetup::specular_bound`]; `i64::MAX` when no
+    /// finite bound is found.
+    ///
+    /// For a directional light whose `N·L` keeps one sign over the normals' cone,
+    /// the only difference is the length of the interpolated normal, at least the
+    /// cosine of the cone's half-angle: at most `ld·kd·(1 − cos)`. Otherwise both
+    /// lie between the least and the greatest value the term takes over the
+    /// triangle (bounded from the cones of normals and of light directions and the
+    /// attenuation at the nearest and farthest distance), and differ by at most the
+    /// span between them.
+    pub fn diffuse_bound(&self, n: &[[i32; 3]; 3], p: &[[i32; 3]; 3]) -> i64 {
+        let Some(nc) = Cone::around(n) else {
+            return i64::MAX;
+        };
+        let one = ONE_Q30 as i64;
+        let mut total: i64 = 0;
+        for light in &self.lights {
+            let top = |v: &[i64; 3], f: i64| v.iter().map(|c| (c * f) >> 16).max().unwrap_or(0);
+            match light.kind {
+                EyeKind::Directional { l, .. } => {
+                    let lc = Cone::point(l);
+                    let max_nl = nc.max_dot(&lc);
+                    if max_nl <= 0 {
+                        continue;
+                    }
+                    let min_nl = -Cone::point([-l[0], -l[1], -l[2]]).max_dot(&nc);
+                    let f = if min_nl >= 0 {
+                        // (1 − cos) in Q16.16, rounded up.
+                        ((one - nc.cos) >> 14) + 1
+                    } else {
+                        (max_nl >> 14) + 1
+                    };
+                    total = total.saturating_add(top(&light.dif, f) + 1);
+                }
+                EyeKind::Point { pos, att } => {
+                    let mut ls = [[0; 3]; 3];
+                    let (mut near, mut far) = (i64::MAX, 0);
+                    for (o, q) in ls.iter_mut().zip(p.iter()) {
+                        let d: [i64; 3] = core::array::from_fn(|k| pos[k] as i64 - q[k] as i64);
+                        match normalize_to_q30(d) {
+                            Some(u) => *o = u,
+                            None => return i64::MAX,
+                        }
+                        let len = length_q16(d);
+                        near = near.min(len);
+                        far = far.max(len);
+                    }
+                    let edge = (0..3)
+                        .map(|k| {
+                            let (a, b) = (p[k], p[(k + 1) % 3]);
+                            length_q16(core::array::from_fn(|j| a[j] as i64 - b[j] as i64))
+                        })
+                        .max()
+                        .unwrap_or(0);
+                    let Some(lc) = Cone::around(&ls) else {
+                        return i64::MAX;
+                    };
+                    // The distance is convex: its maximum is at a vertex.
+                    let att_max = attenuation([(near - edge).max(0), 0, 0], att);
+                    let att_min = attenuation([far, 0, 0], att);
+                    let max_nl = nc.max_dot(&lc).max(0);
+                    let inv = Cone {
+                        axis: [-lc.axis[0], -lc.axis[1], -lc.axis[2]],
+                        ..lc
+                    };
+                    let min_nl = (-inv.max_dot(&nc)).max(0);
+                    // Q16.16 · Q2.30 → Q16.16.
+                    let hi = (att_max * max_nl) >> 30;
+                    let lo = (att_min * min_nl) >> 30;
+                    let span =
+                        top(&light.dif, hi - lo + 1) + top(&light.amb, att_max - att_min + 1);
+                    total = total.saturating_add(span + 1);
+                }
+            }
         }
         total
     }

@@ -5,6 +5,7 @@ pub mod compare;
 pub mod convert;
 pub mod demo;
 pub mod desc;
+pub mod effects;
 pub mod image;
 pub mod mesh;
 pub mod pipeline;

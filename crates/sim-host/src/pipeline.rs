@@ -257,10 +257,24 @@ fn span_dispatch<P: PixelFormat, Sp: Specular>(
     with_span_method!(span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
 }
 
+/// True if the frame needs the specular term: some light and some material have a
+/// specular colour, or `+specular` is forced. Otherwise the frame runs with
+/// [`fixshade::effects::NoSpecular`] (the same pixels, no specular code).
+pub fn specular_pipeline(d: &SceneDesc) -> bool {
+    crate::effects::has_specular(d)
+        || matches!(
+            d.effects.get(crate::effects::Effect::Specular),
+            Some((true, _))
+        )
+}
+
 fn run_core<P: PixelFormat>(
     ls: &LoadedScene,
     strip_rows: Option<u32>,
 ) -> Result<(Vec<P::Raw>, Stats), String> {
+    if !specular_pipeline(&ls.desc) {
+        return run_core_with::<P, fixshade::effects::NoSpecular>(ls, strip_rows);
+    }
     with_specular!(ls.desc.specular, Sp => run_core_with::<P, Sp>(ls, strip_rows))
 }
 
@@ -328,7 +342,10 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     // own fills, which ignore the span method and cover what `gradient` covers.
     if matches!(
         d.shading,
-        ShadingName::Quadratic | ShadingName::Phong | ShadingName::PhongEvenOdd
+        ShadingName::Quadratic
+            | ShadingName::Phong
+            | ShadingName::PhongEvenOdd
+            | ShadingName::Adaptive
     ) {
         frame.draw_with::<fixshade::raster::span::Gradient, NoDepth, Flat, _>(&mut fb)
     } else {
@@ -392,6 +409,9 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         return crate::raycast::time_frame(ls, runs);
     }
     fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+        if !specular_pipeline(&ls.desc) {
+            return go_with::<P, fixshade::effects::NoSpecular>(ls, runs);
+        }
         with_specular!(ls.desc.specular, Sp => go_with::<P, Sp>(ls, runs))
     }
     fn go_with<P: PixelFormat, Sp: Specular>(

@@ -3,9 +3,11 @@
 //!
 //! The decision is conservative: [`LightingSetup::specular_bound`] bounds the
 //! specular term over the whole triangle (every normal Phong could interpolate there,
-//! every point of it), and a triangle is Gouraud-shaded only if that bound is below
-//! half a step of the target's finest channel, so the specular light it leaves to
-//! the vertex colours can move a pixel by at most one step. Gouraud triangles take
+//! every point of it) and [`LightingSetup::diffuse_bound`] how far Gouraud's
+//! interpolated ambient and diffuse light can be from the per-pixel one; a triangle
+//! is Gouraud-shaded only if their sum is below half a step of the target's finest
+//! channel, so Gouraud moves a pixel of it by at most one step from Phong's value
+//! (before the clamp to 1, which only narrows the difference). Gouraud triangles take
 //! the vertex colours lit by the vertex stage; triangles that go through the clipper
 //! are always Phong-shaded.
 
@@ -13,9 +15,9 @@ use super::{classify, eye_normal, project_clamped, Class, Frame, RenderError, St
 use crate::clip::{clip_triangle, is_front, ClipVertex};
 use crate::light::{LightingSetup, Specular};
 use crate::math::Affine3;
+use crate::raster::draw_triangle;
 use crate::raster::phong::{draw_phong, PhongVertex, Rows};
 use crate::raster::span::{DepthMode, Gradient};
-use crate::raster::draw_triangle;
 use crate::shade::Gouraud;
 use crate::target::{PixelFormat, Target};
 
@@ -65,7 +67,9 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                     let n = e.map(|v| v.0);
                     let p = e.map(|v| v.1);
                     st.drawn += 1;
-                    if light.specular_bound(&n, &p) < limit {
+                    // The diffuse bound only matters below the limit.
+                    let spec = light.specular_bound(&n, &p);
+                    if spec < limit && spec.saturating_add(light.diffuse_bound(&n, &p)) < limit {
                         let s = [t[0].s, t[1].s, t[2].s];
                         st.pixels += draw_triangle::<P, T, Gradient, Z, Gouraud>(target, s);
                     } else {

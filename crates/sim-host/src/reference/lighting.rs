@@ -287,6 +287,7 @@ mod tests {
             perspective_correct: false,
             specular: crate::desc::SpecularName::Exact,
             raycast: Default::default(),
+            effects: Default::default(),
         };
         let view = super::super::matrix::view_matrix(&scene.camera);
         let ctx = LightingContext::new(&scene, &view);

@@ -55,6 +55,7 @@ fn ortho_scene(objects: Vec<ObjectDesc>) -> SceneDesc {
         perspective_correct: false,
         specular: crate::desc::SpecularName::Exact,
         raycast: Default::default(),
+        effects: Default::default(),
     }
 }
 
@@ -173,6 +174,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
         perspective_correct: false,
         specular: crate::desc::SpecularName::Exact,
         raycast: Default::default(),
+        effects: Default::default(),
     }
 }
 
