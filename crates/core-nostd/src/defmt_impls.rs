@@ -84,13 +84,14 @@ impl Format for Stats {
     fn format(&self, f: Formatter<'_>) {
         write!(
             f,
-            "Stats {{ triangles: {=u32}, culled: {=u32}, clipped: {=u32}, drawn: {=u32}, pixels: {=u32}, fallback: {=u32} }}",
+            "Stats {{ triangles: {=u32}, culled: {=u32}, clipped: {=u32}, drawn: {=u32}, pixels: {=u32}, fallback: {=u32}, per_pixel: {=u32} }}",
             self.triangles,
             self.culled,
             self.clipped,
             self.drawn,
             self.pixels,
-            self.fallback
+            self.fallback,
+            self.per_pixel
         )
     }
 }

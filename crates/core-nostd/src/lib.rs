@@ -40,6 +40,7 @@ mod defmt_impls;
 pub mod divide;
 #[doc(hidden)]
 pub mod doc_support;
+pub mod effects;
 #[cfg(feature = "embedded-graphics")]
 pub mod eg;
 pub mod fixed;

@@ -162,6 +162,10 @@ impl Default for Material {
 /// assert!(approx > exact);
 /// ```
 pub trait Specular {
+    /// False for a model that has no specular term at all
+    /// ([`crate::effects::NoSpecular`]): lighting then compiles without the half
+    /// vector, the power and the specular sums.
+    const ENABLED: bool = true;
     /// Per-material data derived from n once per frame (a table lookup, a reciprocal).
     type Params: Copy;
     /// Prepares the parameters for exponent `n` (already clamped to 1..=1000).
@@ -365,7 +369,7 @@ impl<S: Specular> LightingSetup<S> {
             for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
                 *c += (dif * f) >> 16;
             }
-            if !light.has_spec {
+            if !S::ENABLED || !light.has_spec {
                 continue;
             }
             let Some(h) = h else { continue };
@@ -394,6 +398,293 @@ impl<S: Specular> crate::raster::phong::PixelLight for LightingSetup<S> {
     fn light(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
         self.shade(p, n)
     }
+}
+
+/// A cone of unit vectors: its axis and the cosine and sine of its half-angle, all
+/// Q2.30. The half-angle is below 90° (`cos > 0`).
+#[derive(Copy, Clone, Debug)]
+struct Cone {
+    axis: [i32; 3],
+    cos: i64,
+    sin: i64,
+}
+
+/// Slack added to every bound (Q2.30, about 4e-6): covers the rounding of the dot
+/// products, normalisations and square roots below and of the per-pixel
+/// interpolation of normals and positions.
+const SLACK: i64 = 1 << 12;
+
+/// `sqrt(1 − c²)` for `c` in Q2.30, |c| ≤ 1.
+fn sine_of(c: i64) -> i64 {
+    let c = c.clamp(-(ONE_Q30 as i64), ONE_Q30 as i64);
+    // c² ≤ 2^60: fits; the difference is in [0, 2^60].
+    crate::math::isqrt_u64(((1i64 << 60) - c * c) as u64) as i64
+}
+
+impl Cone {
+    /// The cone of one direction (half-angle 0).
+    fn point(axis: [i32; 3]) -> Cone {
+        Cone {
+            axis,
+            cos: ONE_Q30 as i64,
+            sin: 0,
+        }
+    }
+
+    /// A cone holding the three unit vectors `v` and so (the half-angle being below
+    /// 90°, a spherical cap is convex) every normalised positive combination of
+    /// them. `None` if no such cone with a half-angle below 90° is found.
+    fn around(v: &[[i32; 3]; 3]) -> Option<Cone> {
+        let sum: [i64; 3] = core::array::from_fn(|k| v.iter().map(|u| u[k] as i64).sum());
+        let axis = normalize_to_q30(sum)?;
+        let cos = v.iter().map(|u| dot_q30(axis, *u) as i64).min()? - SLACK;
+        if cos <= 0 {
+            return None;
+        }
+        Some(Cone {
+            axis,
+            cos,
+            sin: sine_of(cos),
+        })
+    }
+
+    /// `(cos, sin)` of the angle between the axes and of the sum of the half-angles.
+    fn angles(&self, o: &Cone) -> (i64, i64, i64, i64) {
+        let c_ab = dot_q30(self.axis, o.axis) as i64;
+        let s_ab = sine_of(c_ab);
+        // Products of Q2.30 values ≤ 1: < 2^61.
+        let c_t = (self.cos * o.cos - self.sin * o.sin) >> 30;
+        let s_t = (self.sin * o.cos + self.cos * o.sin) >> 30;
+        (c_ab, s_ab, c_t, s_t)
+    }
+
+    /// An upper bound of `x·y` for `x` in `self`, `y` in `o` (Q2.30): the angle
+    /// between them is at least the axes' angle minus both half-angles.
+    fn max_dot(&self, o: &Cone) -> i64 {
+        let (c_ab, s_ab, c_t, s_t) = self.angles(o);
+        if c_ab >= c_t {
+            return ONE_Q30 as i64;
+        }
+        (((c_ab * c_t + s_ab * s_t) >> 30) + SLACK).min(ONE_Q30 as i64)
+    }
+
+    /// A lower bound of `x·y` (Q2.30): the angle is at most the axes' angle plus both
+    /// half-angles.
+    fn min_dot(&self, o: &Cone) -> i64 {
+        let (c_ab, s_ab, c_t, s_t) = self.angles(o);
+        let cos_sum = (c_ab * c_t - s_ab * s_t) >> 30;
+        let sin_sum = (s_ab * c_t + c_ab * s_t) >> 30;
+        if sin_sum < 0 || (sin_sum == 0 && cos_sum < 0) {
+            return -(ONE_Q30 as i64);
+        }
+        (cos_sum - SLACK).max(-(ONE_Q30 as i64))
+    }
+}
+
+impl<S: Specular> LightingSetup<S> {
+    /// An upper bound, over a whole triangle, of the specular part of
+    /// [`LightingSetup::shade`] (Q16.16, the largest channel, summed over the
+    /// lights), for a triangle with eye-space unit vertex normals `n` (Q2.30) and
+    /// vertex positions `p` (Q16.16), whatever point inside it is lit with whatever
+    /// normalised positive combination of its vertex normals (what Phong shading
+    /// does). `i64::MAX` when no finite bound is found (normals more than 90° apart,
+    /// a light or the eye on the triangle).
+    ///
+    /// For each light: the normals lie in a cone around their normalised sum, the
+    /// directions to a point light and to a local viewer in cones around theirs (they
+    /// are positive combinations of the vertex directions); `N·H = N·(L + V)/|L + V|`
+    /// is bounded by `(max N·L + max N·V) / sqrt(2 + 2·min L·V)` (for a directional
+    /// light and an infinite viewer `H` is fixed and `max N·H` is bounded directly),
+    /// and a light with `max N·L ≤ 0` adds nothing (the specular term needs
+    /// `N·L > 0`). The bound on `cⁿ` is the model's value at the bound of `c`, which
+    /// assumes the model is non-decreasing in `c` (every model of
+    /// [`crate::specular`] is). The attenuation of a point light is bounded by its
+    /// value at the least distance any point of the triangle can have (the nearest
+    /// vertex's distance minus the longest edge).
+    pub fn specular_bound(&self, n: &[[i32; 3]; 3], p: &[[i32; 3]; 3]) -> i64 {
+        if !S::ENABLED || !self.lights.iter().any(|l| l.has_spec) {
+            return 0;
+        }
+        let Some(nc) = Cone::around(n) else {
+            return i64::MAX;
+        };
+        let v_cone = if self.local_viewer {
+            let mut v = [[0; 3]; 3];
+            for (o, q) in v.iter_mut().zip(p.iter()) {
+                match normalize_to_q30([-(q[0] as i64), -(q[1] as i64), -(q[2] as i64)]) {
+                    Some(u) => *o = u,
+                    None => return i64::MAX,
+                }
+            }
+            match Cone::around(&v) {
+                Some(c) => c,
+                None => return i64::MAX,
+            }
+        } else {
+            Cone::point([0, 0, ONE_Q30])
+        };
+        let one = ONE_Q30 as i64;
+        let mut total: i64 = 0;
+        for light in self.lights.iter().filter(|l| l.has_spec) {
+            let (l_cone, att, fixed_h) = match light.kind {
+                EyeKind::Directional { l, h } => {
+                    let fixed = if self.local_viewer { None } else { Some(h) };
+                    (Cone::point(l), 1i64 << 16, fixed)
+                }
+                EyeKind::Point { pos, att } => {
+                    let mut ls = [[0; 3]; 3];
+                    let mut near = i64::MAX;
+                    for (o, q) in ls.iter_mut().zip(p.iter()) {
+                        let d: [i64; 3] = core::array::from_fn(|k| pos[k] as i64 - q[k] as i64);
+                        match normalize_to_q30(d) {
+                            Some(u) => *o = u,
+                            None => return i64::MAX,
+                        }
+                        near = near.min(length_q16(d));
+                    }
+                    let edge = (0..3)
+                        .map(|k| {
+                            let (a, b) = (p[k], p[(k + 1) % 3]);
+                            length_q16(core::array::from_fn(|j| a[j] as i64 - b[j] as i64))
+                        })
+                        .max()
+                        .unwrap_or(0);
+                    let Some(cone) = Cone::around(&ls) else {
+                        return i64::MAX;
+                    };
+                    let dmin = (near - edge).max(0);
+                    (cone, attenuation([dmin, 0, 0], att), None)
+                }
+            };
+            let max_nl = nc.max_dot(&l_cone);
+            if max_nl <= 0 {
+                continue;
+            }
+            let max_nh = match fixed_h {
+                Some(None) => continue,
+                Some(Some(h)) => nc.max_dot(&Cone::point(h)),
+                None => {
+                    let num = max_nl + nc.max_dot(&v_cone);
+                    if num <= 0 {
+                        continue;
+                    }
+                    // |L + V|² = 2 + 2·L·V, Q2.30.
+                    let den2 = 2 * one + 2 * l_cone.min_dot(&v_cone);
+                    if den2 <= one >> 8 {
+                        one
+                    } else {
+                        // den2 < 2^32: den2·2^30 < 2^62.
+                        let den = crate::math::isqrt_u64((den2 << 30) as u64) as i64;
+                        // num ≤ 2^31: num·2^30 < 2^62.
+                        ((num << 30) / den.max(1) + SLACK).min(one)
+                    }
+                }
+            };
+            if max_nh <= 0 {
+                continue;
+            }
+            let s = S::eval_wide(&self.spec, max_nh as i32);
+            // As in `shade`: att ≤ 2^31 (Q16.16), s ≤ 2^36 (Q.30).
+            let f = ((att as i128 * s as i128) >> 30) as i64;
+            let top = light
+                .spec
+                .iter()
+                .map(|sp| (sp * f) >> 16)
+                .max()
+                .unwrap_or(0);
+            total = total.saturating_add(top + 1);
+        }
+        total
+    }
+}
+
+impl<S: Specular> LightingSetup<S> {
+    /// An upper bound (Q16.16, the largest channel, summed over the lights) of how
+    /// far the ambient and diffuse part of a Gouraud-shaded triangle can be from the
+    /// same part lit per pixel (Phong), for eye-space unit vertex normals `n` and
+    /// positions `p` as in [`LightingSetup::specular_bound`]; `i64::MAX` when no
+    /// finite bound is found.
+    ///
+    /// For a directional light whose `N·L` keeps one sign over the normals' cone,
+    /// the only difference is the length of the interpolated normal, at least the
+    /// cosine of the cone's half-angle: at most `ld·kd·(1 − cos)`. Otherwise both
+    /// lie between the least and the greatest value the term takes over the
+    /// triangle (bounded from the cones of normals and of light directions and the
+    /// attenuation at the nearest and farthest distance), and differ by at most the
+    /// span between them.
+    pub fn diffuse_bound(&self, n: &[[i32; 3]; 3], p: &[[i32; 3]; 3]) -> i64 {
+        let Some(nc) = Cone::around(n) else {
+            return i64::MAX;
+        };
+        let one = ONE_Q30 as i64;
+        let mut total: i64 = 0;
+        for light in &self.lights {
+            let top = |v: &[i64; 3], f: i64| v.iter().map(|c| (c * f) >> 16).max().unwrap_or(0);
+            match light.kind {
+                EyeKind::Directional { l, .. } => {
+                    let lc = Cone::point(l);
+                    let max_nl = nc.max_dot(&lc);
+                    if max_nl <= 0 {
+                        continue;
+                    }
+                    let min_nl = -Cone::point([-l[0], -l[1], -l[2]]).max_dot(&nc);
+                    let f = if min_nl >= 0 {
+                        // (1 − cos) in Q16.16, rounded up.
+                        ((one - nc.cos) >> 14) + 1
+                    } else {
+                        (max_nl >> 14) + 1
+                    };
+                    total = total.saturating_add(top(&light.dif, f) + 1);
+                }
+                EyeKind::Point { pos, att } => {
+                    let mut ls = [[0; 3]; 3];
+                    let (mut near, mut far) = (i64::MAX, 0);
+                    for (o, q) in ls.iter_mut().zip(p.iter()) {
+                        let d: [i64; 3] = core::array::from_fn(|k| pos[k] as i64 - q[k] as i64);
+                        match normalize_to_q30(d) {
+                            Some(u) => *o = u,
+                            None => return i64::MAX,
+                        }
+                        let len = length_q16(d);
+                        near = near.min(len);
+                        far = far.max(len);
+                    }
+                    let edge = (0..3)
+                        .map(|k| {
+                            let (a, b) = (p[k], p[(k + 1) % 3]);
+                            length_q16(core::array::from_fn(|j| a[j] as i64 - b[j] as i64))
+                        })
+                        .max()
+                        .unwrap_or(0);
+                    let Some(lc) = Cone::around(&ls) else {
+                        return i64::MAX;
+                    };
+                    // The distance is convex: its maximum is at a vertex.
+                    let att_max = attenuation([(near - edge).max(0), 0, 0], att);
+                    let att_min = attenuation([far, 0, 0], att);
+                    let max_nl = nc.max_dot(&lc).max(0);
+                    let inv = Cone {
+                        axis: [-lc.axis[0], -lc.axis[1], -lc.axis[2]],
+                        ..lc
+                    };
+                    let min_nl = (-inv.max_dot(&nc)).max(0);
+                    // Q16.16 · Q2.30 → Q16.16.
+                    let hi = (att_max * max_nl) >> 30;
+                    let lo = (att_min * min_nl) >> 30;
+                    let span =
+                        top(&light.dif, hi - lo + 1) + top(&light.amb, att_max - att_min + 1);
+                    total = total.saturating_add(span + 1);
+                }
+            }
+        }
+        total
+    }
+}
+
+/// Length of a Q16.16 offset, Q16.16 (components < 2^32 raw: squares summed in u128).
+fn length_q16(d: [i64; 3]) -> i64 {
+    let sq: u128 = d.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
+    crate::math::isqrt_u128(sq) as i64
 }
 
 fn half(l: [i32; 3], v: [i32; 3]) -> Option<[i32; 3]> {

@@ -70,6 +70,8 @@ use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
 use crate::shade::{Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
 use crate::target::{to_channels, PixelFormat, Target};
 
+mod adaptive;
+
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
 /// target's channel units, and flags.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -195,6 +197,9 @@ pub struct Stats {
     /// Per-pixel lighting evaluations of sampled Phong shading
     /// ([`Frame::draw_phong_sampled`]); 0 for every other path.
     pub evaluations: u32,
+    /// Adaptive shading only: triangles (clipped pieces count once per triangle)
+    /// that a highlight may reach and so were drawn with per-pixel lighting.
+    pub per_pixel: u32,
 }
 
 impl core::ops::AddAssign for Stats {
@@ -206,6 +211,7 @@ impl core::ops::AddAssign for Stats {
         self.pixels += o.pixels;
         self.fallback += o.fallback;
         self.evaluations += o.evaluations;
+        self.per_pixel += o.per_pixel;
     }
 }
 
@@ -361,6 +367,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             (false, ShadingMode::PhongEvenOdd) => {
                 self.draw_with::<S, NoDepth, PhongEvenOdd, T>(target)
             }
+            (true, ShadingMode::Adaptive) => {
+                self.draw_with::<S, DepthTest, crate::shade::Adaptive, T>(target)
+            }
+            (false, ShadingMode::Adaptive) => {
+                self.draw_with::<S, NoDepth, crate::shade::Adaptive, T>(target)
+            }
         }
     }
 
@@ -374,6 +386,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     ) -> Result<Stats, RenderError> {
         if target.width() != self.vp.width || target.frame_height() != self.vp.height {
             return Err(RenderError::TargetSizeMismatch);
+        }
+        if Sh::ADAPTIVE {
+            return self.draw_adaptive::<Z, T>(target);
         }
         if Sh::QUADRATIC {
             return self.draw_quadratic::<Z, Sh, T>(target);

@@ -218,6 +218,9 @@ pub enum ShadingMode {
     Phong,
     /// Phong with the even/odd fill ([`crate::shade::PhongEvenOdd`], same pixels).
     PhongEvenOdd,
+    /// Phong where a highlight can reach inside a triangle, Gouraud elsewhere
+    /// ([`crate::shade::Adaptive`]).
+    Adaptive,
 }
 
 /// Everything a frame needs.

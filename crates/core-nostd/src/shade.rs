@@ -34,6 +34,9 @@ pub trait Shading {
     const PER_PIXEL: bool = false;
     /// With `PER_PIXEL`: the even/odd fill (two accumulators per attribute).
     const EVEN_ODD: bool = false;
+    /// True for adaptive shading: [`crate::render::Frame`] decides per triangle
+    /// between Phong and Gouraud ([`Adaptive`]).
+    const ADAPTIVE: bool = false;
 }
 
 /// One colour per triangle: its provoking (last) vertex's.
@@ -201,4 +204,18 @@ impl Shading for PhongEvenOdd {
     const INTERPOLATE: bool = true;
     const PER_PIXEL: bool = true;
     const EVEN_ODD: bool = true;
+}
+
+/// Adaptive shading (the "inner specular check" of seed 002): per triangle, a
+/// conservative bound of the specular term over the triangle
+/// ([`crate::light::LightingSetup::specular_bound`]) decides whether a highlight can
+/// reach inside it; those triangles are Phong-shaded, the rest Gouraud-shaded.
+/// [`crate::render::Stats::per_pixel`] counts the triangles that paid.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Adaptive;
+
+impl Shading for Adaptive {
+    const NAME: &'static str = "adaptive";
+    const INTERPOLATE: bool = true;
+    const ADAPTIVE: bool = true;
 }

@@ -188,6 +188,7 @@ fn scene_src(s: &Scene<'_>) -> String {
         ShadingMode::Quadratic => "Quadratic",
         ShadingMode::Phong => "Phong",
         ShadingMode::PhongEvenOdd => "PhongEvenOdd",
+        ShadingMode::Adaptive => "Adaptive",
     };
     let _ = writeln!(f, "    s.shading = ShadingMode::{shading};");
     for (i, o) in s.objects.iter().enumerate() {

@@ -16,9 +16,19 @@ USAGE:
                                   into out/ and print a table against the f64 reference
     fixshade render SCENE [-o OUT.png] [--span METHOD] [--shading MODE] [--format FMT]
                                   [--specular MODEL] [--divide DIV] [--strip ROWS] [--segment L]
-                                  [--threshold K]
+                                  [--threshold K] [--effects LIST] [--explain]
                                   render with the fixed-point core (OUT defaults to
-                                  out/SCENE.png); prints the draw statistics
+                                  out/SCENE.png); prints the draw statistics. The
+                                  effects (depth test, culling, lighting, shading, ...)
+                                  are derived from the scene; --effects forces some on
+                                  or off (e.g. -depth,+specular; names: depth, cull,
+                                  specular, lighting, local-viewer, -perspective);
+                                  --explain prints each effect, the rule that chose it
+                                  and its measured share of the frame time
+    fixshade effects [--out FILE] [--quick]
+                                  the effects table: --explain, NMSE and time for the
+                                  scenes in crates/sim-host/scenes/effects/ (FILE:
+                                  docs/effects.md, or out/effects-quick.md with --quick)
     fixshade reference SCENE -o OUT.png [--phong]
     fixshade compare REF.png TEST.png [--json]
     fixshade report [--quick] [--out DIR]
@@ -35,7 +45,7 @@ USAGE:
                                   the specular models against c^n, in renders and in
                                   time: DIR/specular.{md,csv}, DIR/specular-reflectance.png
                                   (DIR: docs/, or out/specular-quick/ with --quick)
-    fixshade list                 built-in scenes, span methods, shading modes,
+    fixshade list                 built-in scenes, span methods, shading modes (with adaptive),
                                   specular models, dividers, formats
     fixshade help                 this text
 
@@ -83,6 +93,8 @@ pub(crate) struct Opts {
     pub(crate) threshold: Option<f64>,
     phong: bool,
     json: bool,
+    effects: Option<String>,
+    explain: bool,
 }
 
 fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
@@ -121,6 +133,13 @@ fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
             }
             "--segment" | "--threshold" => crate::raycast::cli_option(&mut o, a, &value(a)?)?,
             "--phong" => o.phong = true,
+            "--effects" => {
+                let v = value(a)?;
+                crate::effects::Overrides::parse(&v, crate::effects::Source::CommandLine)
+                    .map_err(usage)?;
+                o.effects = Some(v);
+            }
+            "--explain" => o.explain = true,
             "--json" => o.json = true,
             _ => o.positional.push(a.clone()),
         }
@@ -150,6 +169,12 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     }
     if let Some(v) = o.divide {
         d.divide = v;
+    }
+    if let Some(list) = &o.effects {
+        // Checked by `parse_opts`.
+        let forced = crate::effects::Overrides::parse(list, crate::effects::Source::CommandLine)
+            .map_err(usage)?;
+        d.effects.extend(&forced);
     }
     d.raycast.segment = o.segment.unwrap_or(d.raycast.segment);
     d.raycast.threshold = o.threshold.unwrap_or(d.raycast.threshold);
@@ -196,6 +221,7 @@ enum Cmd {
     Bake(Vec<String>),
     RaycastTable(Vec<String>),
     Specular(Vec<String>),
+    Effects(Vec<String>),
 }
 
 /// Parses `args` (without the program name): the command, its options and their
@@ -229,6 +255,7 @@ pub fn parse(args: &[String]) -> Result<Command, CliError> {
         "bake" => Cmd::Bake(rest.to_vec()),
         "raycast-table" => Cmd::RaycastTable(rest.to_vec()),
         "specular" => Cmd::Specular(rest.to_vec()),
+        "effects" => Cmd::Effects(rest.to_vec()),
         "render" => Cmd::Render(scene_opts(
             &[
                 "-o",
@@ -241,6 +268,8 @@ pub fn parse(args: &[String]) -> Result<Command, CliError> {
                 "--strip",
                 "--segment",
                 "--threshold",
+                "--effects",
+                "--explain",
             ],
             false,
         )?),
@@ -298,8 +327,11 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
         Cmd::RaycastTable(rest) => crate::raycast::table_command(&rest),
         Cmd::Specular(rest) => crate::specular_table::run_cli(&rest)
             .map_err(|(code, message)| CliError { code, message }),
+        Cmd::Effects(rest) => crate::effects::run_cli(&rest),
         Cmd::Render(o) => {
-            let ls = load_with(&o)?;
+            let scene = load_with(&o)?;
+            let effects = crate::effects::derive(&scene).map_err(usage)?;
+            let ls = crate::effects::apply(&scene, &effects);
             let out = &output_or_default(&o);
             let r = pipeline::render(&ls, o.strip).map_err(fail)?;
             write(&r.image, out)?;
@@ -308,7 +340,7 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                 0 => String::new(),
                 e => format!(", {e} lighting evaluations"),
             };
-            Ok(format!(
+            let mut text = format!(
                 "{}: {} triangles ({} drawn, {} culled, {} clipped), {} covered pixels{evals} -> {}",
                 ls.name,
                 r.stats.triangles,
@@ -317,7 +349,20 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
                 r.stats.clipped,
                 r.image.covered_count(),
                 out.display()
-            ))
+            );
+            if ls.desc.shading == ShadingName::Adaptive {
+                text.push_str(&format!(
+                    "\nadaptive: {} of {} polygons lit per pixel",
+                    r.stats.per_pixel,
+                    r.stats.triangles - r.stats.culled
+                ));
+            }
+            if o.explain {
+                let costs = crate::effects::costs(&scene, &effects, 5, 3).map_err(fail)?;
+                text.push('\n');
+                text.push_str(&crate::effects::explain(&ls.name, &effects, Some(&costs)));
+            }
+            Ok(text)
         }
         Cmd::Reference(o) => {
             let out = output(&o)?;
@@ -372,6 +417,9 @@ fn describe(name: &str) -> &'static str {
         "quadratic" => "quadratic surface through vertex and edge-midpoint colours (seed 003)",
         "phong" => "normals interpolated, every pixel lit (with --segment/--threshold: lit at segment ends, interpolated inside)",
         "phong-even-odd" => "phong with two accumulators per normal component; same pixels",
+        "adaptive" => {
+            "phong where a highlight can reach a triangle (conservative bound), gouraud elsewhere"
+        }
         "raycast" => "fixed-point ray casting sampled by pixel segments (--segment, --threshold)",
         "exact" => "c^n",
         "schlick" => "c / (n - n·c + c)",

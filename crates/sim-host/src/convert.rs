@@ -237,6 +237,7 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
         ShadingName::Quadratic => ShadingMode::Quadratic,
         ShadingName::Phong => ShadingMode::Phong,
         ShadingName::PhongEvenOdd => ShadingMode::PhongEvenOdd,
+        ShadingName::Adaptive => ShadingMode::Adaptive,
         // The ray caster does not use the rasterizer's shading mode.
         ShadingName::Raycast => ShadingMode::Gouraud,
     };

@@ -180,6 +180,9 @@ pub enum ShadingName {
     Phong,
     /// Phong with the even/odd fill of seed 003 (the same pixels).
     PhongEvenOdd,
+    /// Phong where a highlight can reach inside a triangle, Gouraud elsewhere
+    /// (`fixshade::shade::Adaptive`); its reference is the exact Phong render.
+    Adaptive,
     /// Per-pixel ray casting sampled by pixel segments (seed 002 §2.6,
     /// [`crate::raycast`]); its reference is the exact Phong render.
     Raycast,
@@ -193,6 +196,7 @@ impl ShadingName {
             ShadingName::Quadratic
                 | ShadingName::Phong
                 | ShadingName::PhongEvenOdd
+                | ShadingName::Adaptive
                 | ShadingName::Raycast
         )
     }
@@ -325,6 +329,8 @@ pub struct SceneDesc {
     pub divide: DivideName,
     /// Ray-casting settings and analytic primitives (`shading = "raycast"`).
     pub raycast: crate::raycast::RaycastDesc,
+    /// Effects forced on or off (`[render] effects`, `--effects`; [`crate::effects`]).
+    pub effects: crate::effects::Overrides,
 }
 
 /// Names of the variants of an enum selectable by name in scene files and on the
@@ -383,6 +389,7 @@ impl Named for ShadingName {
         (ShadingName::Quadratic, "quadratic"),
         (ShadingName::Phong, "phong"),
         (ShadingName::PhongEvenOdd, "phong-even-odd"),
+        (ShadingName::Adaptive, "adaptive"),
         (ShadingName::Raycast, "raycast"),
     ];
 }
@@ -457,6 +464,7 @@ mod tests {
             ShadingName::Quadratic,
             ShadingName::Phong,
             ShadingName::PhongEvenOdd,
+            ShadingName::Adaptive,
             ShadingName::Raycast,
         ]);
         use SpecularName as Sp;

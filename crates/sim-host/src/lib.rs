@@ -5,6 +5,7 @@ pub mod compare;
 pub mod convert;
 pub mod demo;
 pub mod desc;
+pub mod effects;
 pub mod host_divide;
 pub mod image;
 pub mod mesh;

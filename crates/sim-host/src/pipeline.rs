@@ -344,10 +344,28 @@ fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
     Sd::dispatch(frame, d.span, fb)
 }
 
+/// True if the frame needs the specular term: some light and some material have a
+/// specular colour, or `+specular` is forced. Otherwise the frame runs with
+/// [`fixshade::effects::NoSpecular`] (the same pixels, no specular code).
+pub fn specular_pipeline(d: &SceneDesc) -> bool {
+    crate::effects::has_specular(d)
+        || matches!(
+            d.effects.get(crate::effects::Effect::Specular),
+            Some((true, _))
+        )
+}
+
 fn run_core<P: PixelFormat>(
     ls: &LoadedScene,
     strip_rows: Option<u32>,
 ) -> Result<(Vec<P::Raw>, Stats), String> {
+    if !specular_pipeline(&ls.desc) {
+        if ls.desc.divide == DivideName::Exact {
+            return run_core_with::<P, fixshade::effects::NoSpecular, ExactSpans>(ls, strip_rows);
+        }
+        crate::host_divide::select(ls.desc.divide);
+        return run_core_with::<P, fixshade::effects::NoSpecular, DividedSpans>(ls, strip_rows);
+    }
     with_specular_divide!(ls.desc, Sp, Sd => run_core_with::<P, Sp, Sd>(ls, strip_rows))
 }
 
@@ -415,7 +433,10 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     // own fills, which ignore the span method and cover what `gradient` covers.
     if matches!(
         d.shading,
-        ShadingName::Quadratic | ShadingName::Phong | ShadingName::PhongEvenOdd
+        ShadingName::Quadratic
+            | ShadingName::Phong
+            | ShadingName::PhongEvenOdd
+            | ShadingName::Adaptive
     ) {
         frame.draw_with::<fixshade::raster::span::Gradient, NoDepth, Flat, _>(&mut fb)
     } else {
@@ -479,6 +500,13 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
         return crate::raycast::time_frame(ls, runs);
     }
     fn go<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+        if !specular_pipeline(&ls.desc) {
+            if ls.desc.divide == DivideName::Exact {
+                return go_with::<P, fixshade::effects::NoSpecular, ExactSpans>(ls, runs);
+            }
+            crate::host_divide::select(ls.desc.divide);
+            return go_with::<P, fixshade::effects::NoSpecular, DividedSpans>(ls, runs);
+        }
         with_specular_divide!(ls.desc, Sp, Sd => go_with::<P, Sp, Sd>(ls, runs))
     }
     fn go_with<P: PixelFormat, Sp: Specular, Sd: SpanDispatch>(

@@ -31,7 +31,7 @@
 //!
 //! | key | type | default | range |
 //! |-----|------|---------|-------|
-//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd`, `raycast` ([`ShadingName`]) |
+//! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd`, `adaptive`, `raycast` ([`ShadingName`]) |
 //! | `specular` | string | `"exact"` | `exact`, `schlick`, `schlick-mod`, `quadratic`, `cos-quad`, `cos-quad-energy` ([`SpecularName`]; the reference is always exact) |
 //! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
 //! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal and Schlick's denominator; `exact` keeps the full-precision divisions) |
@@ -42,6 +42,7 @@
 //! | `threshold` | number | 2.3 | 0..=256; `raycast`, and `phong` when given: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |
 //! | `block` | boolean | `false` | `raycast` only: sample L × L blocks instead of row segments |
 //! | `shadows` | boolean | `true` | `raycast` only: hard shadows from the first light |
+//! | `effects` | string | `""` | effects forced on or off, e.g. `"-depth,+specular"`: comma-separated `+NAME`/`-NAME` with NAME one of `depth`, `cull`, `specular`, `lighting`, `local-viewer`, `perspective` (only `-perspective`); see docs/effects.md |
 //!
 //! ## `[camera]` (required)
 //!
@@ -345,6 +346,7 @@ const RENDER_KEYS: &[&str] = &[
     "threshold",
     "block",
     "shadows",
+    "effects",
 ];
 const CAMERA_KEYS: &[&str] = &[
     "eye",
@@ -735,6 +737,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         specular: SpecularName::Exact,
         divide: DivideName::Exact,
         raycast: crate::raycast::RaycastDesc::default(),
+        effects: Default::default(),
     };
 
     if let Some(v) = get("image") {
@@ -871,6 +874,11 @@ fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;
     desc.perspective_correct = s.boolean("perspective_correct", desc.perspective_correct)?;
+    if let Some(v) = s.get("effects") {
+        let list = string("effects", v)?;
+        desc.effects = crate::effects::Overrides::parse(list, crate::effects::Source::SceneFile)
+            .or_else(|m| fail(v.span(), m))?;
+    }
     raycast_render_keys(s, &mut desc.raycast)
 }
 

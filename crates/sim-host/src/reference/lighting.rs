@@ -288,6 +288,7 @@ mod tests {
             specular: crate::desc::SpecularName::Exact,
             divide: crate::desc::DivideName::Exact,
             raycast: Default::default(),
+            effects: Default::default(),
         };
         let view = super::super::matrix::view_matrix(&scene.camera);
         let ctx = LightingContext::new(&scene, &view);

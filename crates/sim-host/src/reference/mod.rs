@@ -220,7 +220,9 @@ impl Target<'_> {
                         mix(|v| v.colour)
                     }
                     // Phong shadings are lit per pixel above (`opts.phong` is forced).
-                    ShadingName::Phong | ShadingName::PhongEvenOdd => mix(|v| v.colour),
+                    ShadingName::Phong | ShadingName::PhongEvenOdd | ShadingName::Adaptive => {
+                        mix(|v| v.colour)
+                    }
                 }
             };
             debug_assert!(
@@ -262,7 +264,7 @@ pub fn render_reference(scene: &SceneDesc, meshes: &[MeshData], opts: &RefOption
         phong: opts.phong
             || matches!(
                 scene.shading,
-                ShadingName::Phong | ShadingName::PhongEvenOdd
+                ShadingName::Phong | ShadingName::PhongEvenOdd | ShadingName::Adaptive
             ),
     };
     let (width, height) = (scene.width, scene.height);

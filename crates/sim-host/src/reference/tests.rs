@@ -56,6 +56,7 @@ fn ortho_scene(objects: Vec<ObjectDesc>) -> SceneDesc {
         specular: crate::desc::SpecularName::Exact,
         divide: crate::desc::DivideName::Exact,
         raycast: Default::default(),
+        effects: Default::default(),
     }
 }
 
@@ -175,6 +176,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
         specular: crate::desc::SpecularName::Exact,
         divide: crate::desc::DivideName::Exact,
         raycast: Default::default(),
+        effects: Default::default(),
     }
 }
 

@@ -1,0 +1,130 @@
+//! Adaptive shading ([`crate::shade::Adaptive`]): per triangle, Phong where a
+//! highlight can reach inside it, Gouraud elsewhere.
+//!
+//! The decision is conservative: [`LightingSetup::specular_bound`] bounds the
+//! specular term over the whole triangle (every normal Phong could interpolate there,
+//! every point of it) and [`LightingSetup::diffuse_bound`] how far Gouraud's
+//! interpolated ambient and diffuse light can be from the per-pixel one; a triangle
+//! is Gouraud-shaded only if their sum is below half a step of the target's finest
+//! channel, so Gouraud moves a pixel of it by at most one step from Phong's value
+//! (before the clamp to 1, which only narrows the difference). Gouraud triangles take
+//! the vertex colours lit by the vertex stage; triangles that go through the clipper
+//! are always Phong-shaded.
+
+use super::{classify, eye_normal, project_clamped, Class, Frame, RenderError, Stats};
+use crate::clip::{clip_triangle, is_front, ClipVertex};
+use crate::light::{LightingSetup, Specular};
+use crate::math::Affine3;
+use crate::raster::draw_triangle;
+use crate::raster::phong::{draw_phong, PhongVertex, Rows};
+use crate::raster::span::{DepthMode, Gradient};
+use crate::shade::Gouraud;
+use crate::target::{PixelFormat, Target};
+
+/// Half a step of the finest channel of `P`, Q16.16: the largest specular light a
+/// Gouraud triangle may leave out.
+fn half_step<P: PixelFormat>() -> i64 {
+    let m = P::MAX[0].max(P::MAX[1]).max(P::MAX[2]).max(1) as i64;
+    (1i64 << 16) / (2 * m)
+}
+
+impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
+    /// The adaptive path of [`Frame::draw_with`].
+    pub(super) fn draw_adaptive<Z: DepthMode, T: Target<P>>(
+        &self,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        let limit = half_step::<P>();
+        for (i, (obj, prep)) in self
+            .scene
+            .objects
+            .iter()
+            .zip(self.objects.iter())
+            .enumerate()
+        {
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let light: LightingSetup<Sp> = self.lighting(obj, &view);
+            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
+            let eye = |i: usize| -> ([i32; 3], [i32; 3]) {
+                (eye_normal(&aff, &nrm[i]), aff.point(&pos[i]))
+            };
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t = tri.map(|i| verts[i as usize]);
+                let class = classify(&t, cull, &self.vp, rows.clone());
+                if class == Class::Skip {
+                    st.culled += 1;
+                    continue;
+                }
+                let e: [([i32; 3], [i32; 3]); 3] = core::array::from_fn(|k| eye(tri[k] as usize));
+                if class == Class::Draw {
+                    let n = e.map(|v| v.0);
+                    let p = e.map(|v| v.1);
+                    st.drawn += 1;
+                    // The diffuse bound only matters below the limit.
+                    let spec = light.specular_bound(&n, &p);
+                    if spec < limit && spec.saturating_add(light.diffuse_bound(&n, &p)) < limit {
+                        let s = [t[0].s, t[1].s, t[2].s];
+                        st.pixels += draw_triangle::<P, T, Gradient, Z, Gouraud>(target, s);
+                    } else {
+                        st.per_pixel += 1;
+                        let pv = core::array::from_fn(|k| {
+                            let s = t[k].s;
+                            PhongVertex {
+                                x: s.x,
+                                y: s.y,
+                                z: s.z,
+                                n: e[k].0,
+                                p: e[k].1,
+                            }
+                        });
+                        st.pixels += draw_phong::<P, T, Z, Rows, _>(target, pv, &light);
+                    }
+                    continue;
+                }
+                // Through the clipper: Phong, as `draw_phong` does.
+                st.clipped += 1;
+                st.per_pixel += 1;
+                let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                    let (n, p) = e[k];
+                    ClipVertex {
+                        pos: prep.clip.transform(&pos[tri[k] as usize]),
+                        c: [n[0], n[1], n[2], p[0], p[1], p[2]],
+                    }
+                });
+                let poly = clip_triangle(cv, &self.vp);
+                let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
+                for (o, v) in pv.iter_mut().zip(poly.v[..poly.len].iter()) {
+                    let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
+                        continue;
+                    };
+                    let c = v.c;
+                    *o = PhongVertex {
+                        x,
+                        y,
+                        z,
+                        n: [c[0], c[1], c[2]],
+                        p: [c[3], c[4], c[5]],
+                    };
+                }
+                for k in 1..poly.len.saturating_sub(1) {
+                    let tri = [pv[0], pv[k], pv[k + 1]];
+                    let pts = tri.map(|v| (v.x, v.y));
+                    let area = crate::clip::signed_area(pts[0], pts[1], pts[2]);
+                    if area == 0 || (cull && !is_front(pts[0], pts[1], pts[2])) {
+                        continue;
+                    }
+                    st.drawn += 1;
+                    st.pixels += draw_phong::<P, T, Z, Rows, _>(target, tri, &light);
+                }
+            }
+        }
+        Ok(st)
+    }
+}
