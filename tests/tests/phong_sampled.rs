@@ -62,7 +62,7 @@ fn longer_segments_light_fewer_pixels() {
             base.desc.format = format;
             let full = pipeline::render(&base, None).unwrap();
             let reference = pipeline::matching_reference(&base);
-            let mut last = f64::INFINITY;
+            let mut first = None;
             for l in [2, 4, 8, 16] {
                 let mut ls = sampled(fig, l, 2.3);
                 ls.desc.format = format;
@@ -77,11 +77,18 @@ fn longer_segments_light_fewer_pixels() {
                     vs_ref.nmse
                 );
                 assert_eq!(vs_full.coverage_mismatch, 0, "{fig} L = {l}");
+                // At the seed's K the sampled image stays indistinguishable from the
+                // per-pixel one (the project's NMSE level for exact methods).
+                assert!(vs_full.nmse <= 1e-5, "{fig} L = {l}: NMSE {}", vs_full.nmse);
                 assert_eq!(r.stats.pixels, full.stats.pixels, "{fig} L = {l}");
-                // Fewer evaluations than pixels, and fewer the longer the segment.
+                // Fewer evaluations than pixels, and fewer at L = 16 than at L = 2 (in
+                // between the subdivision points move, so it need not fall at every step).
                 assert!(per_px < 1.0, "{fig} L = {l}: {per_px}");
-                assert!(per_px <= last, "{fig} L = {l}: {per_px} > {last}");
-                last = per_px;
+                let at_two = *first.get_or_insert(per_px);
+                assert!(
+                    l < 16 || per_px < at_two,
+                    "{fig}: L = 16 {per_px} vs L = 2 {at_two}"
+                );
             }
         }
     }

@@ -65,6 +65,21 @@ pub use crate::light::Specular;
 /// stage and per-pixel lighting compile without the half vector, the power and the
 /// specular sums ([`Specular::ENABLED`] is false); for a scene whose materials or
 /// lights have no specular colour the pixels are those of any other model.
+///
+/// ```
+/// use fixshade::effects::NoSpecular;
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// // The same scene without its specular term: dimmer where the highlight was.
+/// let mut cache = [XfVertex::default(); 3];
+/// let full = Frame::<Gray8>::prepare(&scene, 1, 1, &mut cache).unwrap();
+/// let (mut a, mut b) = ([0u8; 1], [0u8; 1]);
+/// full.draw::<Gradient, _>(&mut Framebuffer::new(&mut a, Some(&mut [0xFFFF]), 1, 1).unwrap()).unwrap();
+/// let mut cache = [XfVertex::default(); 3];
+/// let diffuse = Frame::<Gray8>::prepare_with::<NoSpecular>(&scene, 1, 1, &mut cache).unwrap();
+/// diffuse.draw::<Gradient, _>(&mut Framebuffer::new(&mut b, Some(&mut [0xFFFF]), 1, 1).unwrap()).unwrap();
+/// assert!(b[0] < a[0]);
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct NoSpecular;
 

@@ -74,6 +74,16 @@ mod adaptive;
 
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
 /// target's channel units, and flags.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// // The caller owns the vertex cache: one entry per scene vertex (16 bytes or so each).
+/// let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+/// let frame = Frame::<Rgb565Le>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// # let _ = frame;
+/// assert_eq!(cache.len(), 3);
+/// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct XfVertex {
     /// Screen vertex (position valid only without [`OUTSIDE`]; colour only with
@@ -127,6 +137,19 @@ fn classify(t: &[XfVertex; 3], cull: bool, vp: &Viewport, rows: core::ops::Range
 }
 
 /// Why a frame could not be prepared or drawn.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// let err = Frame::<Gray8>::prepare(&scene, 64, 48, &mut []).err();
+/// assert_eq!(err, Some(RenderError::CacheTooSmall { needed: 3 }));
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Gray8>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let mut px = [0u8; 64 * 48];
+/// let mut no_depth = Framebuffer::<Gray8>::new(&mut px, None, 64, 48).unwrap();
+/// // The scene tests depth, the target has no depth buffer.
+/// assert_eq!(frame.draw::<Gradient, _>(&mut no_depth), Err(RenderError::NoDepthBuffer));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum RenderError {
     /// The vertex cache holds fewer entries than the scene has vertices.
@@ -179,6 +202,17 @@ impl core::fmt::Display for RenderError {
 }
 
 /// What a draw call did.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Gray8>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let (mut px, mut z) = ([0u8; 64 * 48], [0xFFFFu16; 64 * 48]);
+/// let st = frame.draw::<Gradient, _>(&mut Framebuffer::new(&mut px, Some(&mut z), 64, 48).unwrap()).unwrap();
+/// assert_eq!((st.triangles, st.drawn, st.culled, st.clipped), (1, 1, 0, 0));
+/// assert_eq!(st.pixels as usize, px.iter().filter(|&&p| p != 0).count());
+/// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
     /// Triangles submitted.
@@ -235,6 +269,25 @@ struct Prepared {
 /// normal through the normal matrix, normalised. The model-view is a similarity
 /// (rigid view, uniform scale), so a midpoint normal `normal_matrix·(n_a + n_b)`
 /// normalised equals `normalize(n̂_a + n̂_b)` of the eye-space unit normals.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// // Prepare once (vertex stage), draw into as many targets as needed: here the top and
+/// // bottom halves of a 64×48 frame from one 64×24 buffer.
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// assert_eq!(frame.size(), (64, 48));
+/// let (mut px, mut z) = ([0u16; 64 * 24], [0u16; 64 * 24]);
+/// let mut covered = 0;
+/// for y0 in [0, 24] {
+///     let mut strip = Strip::new(&mut px, Some(&mut z), 64, 48, y0, 24).unwrap();
+///     strip.clear(0);
+///     covered += frame.draw::<Gradient, _>(&mut strip).unwrap().pixels;
+///     // ... send strip.color() to the display
+/// }
+/// assert!(covered > 500);
+/// ```
 pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
     scene: &'s Scene<'a>,
     cache: &'c [XfVertex],
@@ -563,6 +616,19 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             }
         }
         Ok(st)
+    }
+
+    /// The frame's size in pixels, `(width, height)`: what a target must match.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Gray8>::prepare(&scene, 240, 135, &mut cache).unwrap();
+    /// assert_eq!(frame.size(), (240, 135));
+    /// ```
+    pub fn size(&self) -> (u32, u32) {
+        (self.vp.width, self.vp.height)
     }
 
     /// The Phong path of [`Frame::draw_with`]: eye-space normals and positions from

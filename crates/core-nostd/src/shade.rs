@@ -211,6 +211,20 @@ impl Shading for PhongEvenOdd {
 /// ([`crate::light::LightingSetup::specular_bound`]) decides whether a highlight can
 /// reach inside it; those triangles are Phong-shaded, the rest Gouraud-shaded.
 /// [`crate::render::Stats::per_pixel`] counts the triangles that paid.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::span::DepthTest;
+/// use fixshade::shade::Adaptive;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb888>::prepare(&scene, 32, 32, &mut cache).unwrap();
+/// let (mut px, mut z) = ([[0u8; 3]; 32 * 32], [0xFFFFu16; 32 * 32]);
+/// let mut fb = Framebuffer::new(&mut px, Some(&mut z), 32, 32).unwrap();
+/// let st = frame.draw_with::<Gradient, DepthTest, Adaptive, _>(&mut fb).unwrap();
+/// // The light sits at the eye: the highlight is on the triangle, which pays per pixel.
+/// assert_eq!((st.drawn, st.per_pixel), (1, 1));
+/// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Adaptive;
 

@@ -178,7 +178,7 @@ pub fn has_specular(d: &SceneDesc) -> bool {
 }
 
 /// True if every triangle of `m` has every vertex on or behind its plane (within
-/// 1e-6 of the mesh's size): a convex surface, whose front faces never overlap on
+/// 1e-6 of the mesh's size, and at least four Q16.16 units): a convex surface, whose front faces never overlap on
 /// screen from any viewpoint.
 pub fn is_convex(m: &MeshData) -> bool {
     let size = m
@@ -187,7 +187,9 @@ pub fn is_convex(m: &MeshData) -> bool {
         .flat_map(|p| p.iter())
         .fold(0.0f64, |a, v| a.max(v.abs()))
         .max(1e-12);
-    let eps = 1e-6 * size;
+    // The meshes are quantised to Q16.16: a flat pair of triangles may bend by a
+    // few units of 2^-16, which is not a concavity.
+    let eps = (1e-6 * size).max(4.0 / 65536.0);
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     for t in &m.triangles {
         let [a, b, c] = t.map(|i| m.positions[i as usize]);
