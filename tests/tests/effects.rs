@@ -365,7 +365,7 @@ fn every_specular_model_is_non_decreasing() {
                 let mut last = 0u64;
                 let mut ok = true;
                 for c in (0..=(1 << 30)).step_by(1 << 14) {
-                    let v = Sp::eval_wide(&params, c as i32);
+                    let v = Sp::eval_wide(&params, c);
                     ok &= v >= last;
                     last = v;
                 }

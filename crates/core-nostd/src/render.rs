@@ -286,7 +286,7 @@ struct Prepared {
 ///     covered += frame.draw::<Gradient, _>(&mut strip).unwrap().pixels;
 ///     // ... send strip.color() to the display
 /// }
-/// assert!(covered > 500);
+/// assert!(covered > 300);
 /// ```
 pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
     scene: &'s Scene<'a>,

@@ -526,8 +526,8 @@ fn fill_sampled<P: PixelFormat, Z: DepthMode, L: PixelLight>(
             z = z.wrapping_add(gz);
         }
         // The next piece starts SAMPLED_PIECE pixels on (wrapping, like the lattice).
-        for k in 0..PA {
-            f.a[k] = f.a[k].wrapping_add(g[k].wrapping_mul(SAMPLED_PIECE as i64));
+        for (a, g) in f.a.iter_mut().zip(g.iter()) {
+            *a = a.wrapping_add(g.wrapping_mul(SAMPLED_PIECE as i64));
         }
     }
     evals
