@@ -84,14 +84,15 @@ impl Format for Stats {
     fn format(&self, f: Formatter<'_>) {
         write!(
             f,
-            "Stats {{ triangles: {=u32}, culled: {=u32}, clipped: {=u32}, drawn: {=u32}, pixels: {=u32}, fallback: {=u32}, per_pixel: {=u32} }}",
+            "Stats {{ triangles: {=u32}, culled: {=u32}, clipped: {=u32}, drawn: {=u32}, pixels: {=u32}, fallback: {=u32}, per_pixel: {=u32}, evaluations: {=u32} }}",
             self.triangles,
             self.culled,
             self.clipped,
             self.drawn,
             self.pixels,
             self.fallback,
-            self.per_pixel
+            self.per_pixel,
+            self.evaluations
         )
     }
 }
@@ -139,6 +140,7 @@ impl Format for ShadingMode {
             ShadingMode::Quadratic => write!(f, "Quadratic"),
             ShadingMode::Phong => write!(f, "Phong"),
             ShadingMode::PhongEvenOdd => write!(f, "PhongEvenOdd"),
+            ShadingMode::Adaptive => write!(f, "Adaptive"),
         }
     }
 }
