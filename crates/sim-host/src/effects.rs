@@ -3,7 +3,7 @@
 //! command line (`--effects LIST`), and applied so that a frame pays for the effects
 //! it uses and nothing else.
 //!
-//! The rules ([`derive`]) only switch off work whose result the scene cannot show,
+//! The rules ([`derive()`]) only switch off work whose result the scene cannot show,
 //! so a derived frame has the pixels of the frame the scene file describes (the
 //! tests check this); a forced setting may change the pixels (`-specular` drops the
 //! highlights). The run-time choice becomes a type of the core's pipeline: depth test
