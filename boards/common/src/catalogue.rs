@@ -14,6 +14,12 @@ use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::{Flat, Gouraud, Shading};
 use fixshade::target::{PixelFormat, Rgb888, Strip};
 
+use core::ffi::CStr;
+use core::fmt::Write as _;
+
+use semihosting::fs::File;
+use semihosting::io::Write as _;
+
 use crate::Counter;
 
 /// The baked catalogue.
@@ -174,4 +180,80 @@ pub fn run(
         );
     }
     Ok(())
+}
+
+// ---------------------------------------------------------------------------------
+// The firmware around `run`, shared by the QEMU images: host files through
+// semihosting, the console, and the exit status.
+
+/// The semihosting console as a `fmt::Write`.
+pub struct Console;
+
+impl core::fmt::Write for Console {
+    fn write_str(&mut self, s: &str) -> core::fmt::Result {
+        semihosting::print!("{s}");
+        Ok(())
+    }
+}
+
+/// `<name><ext>` as a C string in `buf`.
+fn c_name<'b>(buf: &'b mut [u8; 96], name: &str, ext: &str) -> &'b CStr {
+    let mut n = 0;
+    for part in [name.as_bytes(), ext.as_bytes()] {
+        let k = part.len().min(buf.len() - 1 - n);
+        buf[n..n + k].copy_from_slice(&part[..k]);
+        n += k;
+    }
+    buf[n] = 0;
+    CStr::from_bytes_with_nul(&buf[..=n]).unwrap_or(c"case")
+}
+
+/// The two host files of the current case.
+struct Files(Option<(File, File)>);
+
+impl Sink for Files {
+    fn begin(&mut self, name: &str) -> Result<(), &'static str> {
+        self.0 = None;
+        let mut b = [0u8; 96];
+        let c = File::create(c_name(&mut b, name, ".rgb")).map_err(|_| "cannot create a file")?;
+        let z = File::create(c_name(&mut b, name, ".z")).map_err(|_| "cannot create a file")?;
+        self.0 = Some((c, z));
+        Ok(())
+    }
+    fn color(&mut self, bytes: &[u8]) -> Result<(), &'static str> {
+        let (c, _) = self.0.as_mut().ok_or("no case")?;
+        c.write_all(bytes).map_err(|_| "cannot write")
+    }
+    fn depth(&mut self, bytes: &[u8]) -> Result<(), &'static str> {
+        let (_, z) = self.0.as_mut().ok_or("no case")?;
+        z.write_all(bytes).map_err(|_| "cannot write")
+    }
+}
+
+/// Runs the catalogue on `board` (SysTick at `core_hz`, QEMU's `-icount shift`
+/// `icount_shift`) into the strip buffers `color` and `depth`, writes every case to
+/// the host and exits QEMU with status 0, or 1 after printing the error.
+pub fn firmware(
+    board: &str,
+    core_hz: u32,
+    icount_shift: u32,
+    color: &mut [[u8; 3]],
+    depth: &mut [u16],
+) -> ! {
+    let result = cortex_m::Peripherals::take()
+        .ok_or("peripherals taken twice")
+        .and_then(|cp| {
+            let mut counter = Counter::start(cp.SYST, core_hz, icount_shift);
+            run(board, color, depth, &mut counter, &mut Files(None), &mut Console)
+        });
+    match result {
+        Ok(()) => {
+            let _ = writeln!(Console, "DONE {board}");
+            semihosting::process::exit(0)
+        }
+        Err(e) => {
+            let _ = writeln!(Console, "ERROR {board}: {e}");
+            semihosting::process::exit(1)
+        }
+    }
 }

@@ -7,14 +7,8 @@
 #![no_std]
 #![no_main]
 
-use core::ffi::CStr;
-use core::fmt::Write as _;
-
 use cortex_m_rt::{entry, exception};
-use fixshade_boards_common::catalogue::{self, Sink};
-use fixshade_boards_common::Counter;
-use semihosting::fs::File;
-use semihosting::io::Write as _;
+use fixshade_boards_common::catalogue;
 
 const BOARD: &str = "mps2-an386";
 /// The core clock SysTick counts (QEMU's mps2 SYSCLK).
@@ -28,57 +22,13 @@ const PIXELS: usize = 4096 * 32;
 static mut COLOR: [[u8; 3]; PIXELS] = [[0; 3]; PIXELS];
 static mut DEPTH: [u16; PIXELS] = [0; PIXELS];
 
-struct Console;
-
-impl core::fmt::Write for Console {
-    fn write_str(&mut self, s: &str) -> core::fmt::Result {
-        semihosting::print!("{s}");
-        Ok(())
-    }
-}
-
 #[exception]
 fn SysTick() {
     fixshade_boards_common::on_systick();
 }
 
-/// `<name><ext>` as a C string in `buf`.
-fn c_name<'b>(buf: &'b mut [u8; 96], name: &str, ext: &str) -> &'b CStr {
-    let mut n = 0;
-    for part in [name.as_bytes(), ext.as_bytes()] {
-        let k = part.len().min(buf.len() - 1 - n);
-        buf[n..n + k].copy_from_slice(&part[..k]);
-        n += k;
-    }
-    buf[n] = 0;
-    CStr::from_bytes_with_nul(&buf[..=n]).unwrap_or(c"case")
-}
-
-/// The two host files of the current case.
-struct Files(Option<(File, File)>);
-
-impl Sink for Files {
-    fn begin(&mut self, name: &str) -> Result<(), &'static str> {
-        self.0 = None;
-        let mut b = [0u8; 96];
-        let c = File::create(c_name(&mut b, name, ".rgb")).map_err(|_| "cannot create a file")?;
-        let z = File::create(c_name(&mut b, name, ".z")).map_err(|_| "cannot create a file")?;
-        self.0 = Some((c, z));
-        Ok(())
-    }
-    fn color(&mut self, bytes: &[u8]) -> Result<(), &'static str> {
-        let (c, _) = self.0.as_mut().ok_or("no case")?;
-        c.write_all(bytes).map_err(|_| "cannot write")
-    }
-    fn depth(&mut self, bytes: &[u8]) -> Result<(), &'static str> {
-        let (_, z) = self.0.as_mut().ok_or("no case")?;
-        z.write_all(bytes).map_err(|_| "cannot write")
-    }
-}
-
-fn run() -> Result<(), &'static str> {
-    let cp = cortex_m::Peripherals::take().ok_or("peripherals taken twice")?;
-    let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
+#[entry]
+fn main() -> ! {
     // SAFETY: the only references to the buffers, taken once before any use.
     #[allow(unsafe_code)]
     let (color, depth) = unsafe {
@@ -87,26 +37,5 @@ fn run() -> Result<(), &'static str> {
             &mut *core::ptr::addr_of_mut!(DEPTH),
         )
     };
-    catalogue::run(
-        BOARD,
-        color,
-        depth,
-        &mut counter,
-        &mut Files(None),
-        &mut Console,
-    )
-}
-
-#[entry]
-fn main() -> ! {
-    match run() {
-        Ok(()) => {
-            let _ = writeln!(Console, "DONE {BOARD}");
-            semihosting::process::exit(0)
-        }
-        Err(e) => {
-            let _ = writeln!(Console, "ERROR {BOARD}: {e}");
-            semihosting::process::exit(1)
-        }
-    }
+    catalogue::firmware(BOARD, CORE_HZ, ICOUNT_SHIFT, color, depth)
 }
