@@ -159,16 +159,34 @@ fn local_viewer_without_specular_is_off() {
 }
 
 #[test]
-fn perspective_correction_is_reported_honestly() {
+fn perspective_correction_follows_the_scene_and_the_shading() {
     let ortho = scene(&format!(
         "[camera]\neye = [0, 0, 4]\nprojection = \"orthographic\"\nheight = 3\n{SPHERE}"
     ));
     let e = derive(&ortho);
     assert!(!e.perspective.value && e.perspective.why.contains("orthographic"));
     let persp = derive(&scene(&format!("{CAMERA}{SPHERE}")));
-    assert!(!persp.perspective.value && persp.perspective.why.contains("not available"));
-    let err = Overrides::parse("+perspective", Source::CommandLine).unwrap_err();
-    assert!(err.contains("not built"), "{err}");
+    assert!(!persp.perspective.value && persp.perspective.why.contains("screen space"));
+    let asked = scene(&format!(
+        "[render]\nperspective_correct = true\n{CAMERA}{SPEC_LIGHT}{SPHERE}"
+    ));
+    let e = derive(&asked);
+    assert!(e.perspective.value && e.perspective.why.contains("asked"));
+    assert!(effects::apply(&asked, &e).desc.perspective_correct);
+    // Forced on and off.
+    let mut forced = scene(&format!("{CAMERA}{SPEC_LIGHT}{SPHERE}"));
+    forced.desc.effects = Overrides::parse("+perspective", Source::CommandLine).unwrap();
+    assert!(derive(&forced).perspective.value);
+    let mut off = asked.clone();
+    off.desc.effects = Overrides::parse("-perspective", Source::CommandLine).unwrap();
+    let e = derive(&off);
+    assert!(!e.perspective.value);
+    assert!(!effects::apply(&off, &e).desc.perspective_correct);
+    // Phong interpolates affinely: the derived value says so.
+    let mut phong = asked.clone();
+    phong.desc.shading = ShadingName::Phong;
+    let e = derive(&phong);
+    assert!(!e.perspective.value && e.perspective.why.contains("only Gouraud"));
 }
 
 #[test]

@@ -30,9 +30,11 @@ use fixshade::target::{PixelFormat, Target};
 /// SysTick reload: the full 24 bits.
 const RELOAD: u32 = 0x00FF_FFFF;
 
-/// Ticks after a wrap in which [`Counter::ticks`] waits (about 40 instructions on
-/// the nRF51, 20 on mps2).
-const GUARD: u32 = 640;
+/// Ticks after a wrap in which [`Counter::ticks`] waits (about 256 instructions on
+/// the nRF51, 160 on mps2): a read this close to the reload may precede the wrap's
+/// exception. A read that lands there waits out the rest of the window, which the
+/// measurement then includes (at most `GUARD` ticks, for one read in 4 096).
+const GUARD: u32 = 4096;
 
 static WRAPS: AtomicU32 = AtomicU32::new(0);
 
@@ -50,6 +52,8 @@ pub struct Counter {
     hz: u64,
     /// QEMU's icount shift: one instruction = 2^shift ns.
     shift: u32,
+    /// The last value [`Counter::ticks`] returned.
+    last: u64,
 }
 
 impl Counter {
@@ -66,11 +70,29 @@ impl Counter {
             syst,
             hz: hz as u64,
             shift,
+            last: 0,
         }
     }
 
-    /// SysTick ticks since `start`.
+    /// SysTick ticks since `start`, never decreasing.
+    ///
+    /// QEMU may show the reloaded value for a whole translation block before it
+    /// raises the wrap's exception, longer than `GUARD` on the Cortex-M0 (whose
+    /// straight-line blocks are long). Such a read lacks one wrap and falls below
+    /// the previous one: a decrease can only mean a missed wrap, and it gets the
+    /// wrap back. (A read that misses a wrap more than a wrap after the previous
+    /// read would not be caught; with `GUARD` covering blocks of 256 instructions
+    /// that needs a longer block there.)
     pub fn ticks(&mut self) -> u64 {
+        let mut t = self.read();
+        if t < self.last {
+            t += RELOAD as u64 + 1;
+        }
+        self.last = t;
+        t
+    }
+
+    fn read(&mut self) -> u64 {
         loop {
             let (v, w) = cortex_m::interrupt::free(|_| {
                 let mut v = SYST::get_current();

@@ -55,10 +55,12 @@
 use core::marker::PhantomData;
 
 use crate::clip::{clip_triangle, is_front, ClipVertex};
+use crate::divide::Divide;
 use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
+use crate::raster::perspective::{draw_triangle_perspective, Perspective};
 use crate::raster::phong::{
     self, draw_phong, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
 };
@@ -737,13 +739,34 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         cull: bool,
         st: &mut Stats,
     ) {
+        self.clip_fan(t, cull, st, |tri, _| {
+            draw_triangle::<P, T, S, Z, Sh>(target, tri)
+        });
+    }
+
+    /// Clips a triangle and hands each front-facing, non-degenerate triangle of the
+    /// resulting fan to `draw` with its vertices' clip-space w; counts them and the
+    /// pixels `draw` returns in `st`.
+    fn clip_fan(
+        &self,
+        t: [ClipVertex; 3],
+        cull: bool,
+        st: &mut Stats,
+        mut draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
+    ) {
         let poly = clip_triangle(t, &self.vp);
         let mut sv = [ScreenVertex::default(); crate::clip::MAX_POLY];
-        for (o, v) in sv.iter_mut().zip(poly.v[..poly.len].iter()) {
+        let mut w = [0i64; crate::clip::MAX_POLY];
+        for ((o, ow), v) in sv
+            .iter_mut()
+            .zip(w.iter_mut())
+            .zip(poly.v[..poly.len].iter())
+        {
             let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
                 return;
             };
             *o = ScreenVertex { x, y, z, c: v.c };
+            *ow = v.pos[3];
         }
         for i in 1..poly.len.saturating_sub(1) {
             let tri = [sv[0], sv[i], sv[i + 1]];
@@ -761,8 +784,91 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 continue;
             }
             st.drawn += 1;
-            st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, tri);
+            st.pixels += draw(tri, [w[0], w[i], w[i + 1]]);
         }
+    }
+
+    /// Draws with perspective-correct Gouraud colours (see [`crate::raster::perspective`]): the
+    /// colour is sampled with one reciprocal through `D` at every pixel or at the
+    /// ends of sub-spans (`mode`), and interpolated linearly in between; coverage and
+    /// depth are those of [`Frame::draw`] with [`Gradient`]. The depth test follows
+    /// the scene.
+    ///
+    /// Only Gouraud colours are corrected. Flat shading needs no correction, and the
+    /// quadratic, Phong and adaptive modes draw as [`Frame::draw`] draws them (their
+    /// surfaces and normals interpolate affinely).
+    ///
+    /// ```
+    /// use fixshade::divide::Exact;
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::perspective::Perspective;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb888>::prepare(&scene, 64, 64, &mut cache).unwrap();
+    /// let (mut px, mut z) = ([[0u8; 3]; 64 * 64], [0xFFFFu16; 64 * 64]);
+    /// let mut fb = Framebuffer::<Rgb888>::new(&mut px, Some(&mut z), 64, 64).unwrap();
+    /// let st = frame.draw_perspective::<Exact, _>(&mut fb, Perspective::SUB16).unwrap();
+    /// assert!(st.pixels > 0);
+    /// ```
+    pub fn draw_perspective<D: Divide, T: Target<P>>(
+        &self,
+        target: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError> {
+        if self.scene.shading != ShadingMode::Gouraud {
+            return self.draw::<Gradient, T>(target);
+        }
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if self.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        Ok(if self.scene.depth_test {
+            self.draw_perspective_with::<D, DepthTest, T>(target, mode)
+        } else {
+            self.draw_perspective_with::<D, NoDepth, T>(target, mode)
+        })
+    }
+
+    fn draw_perspective_with<D: Divide, Z: DepthMode, T: Target<P>>(
+        &self,
+        target: &mut T,
+        mode: Perspective,
+    ) -> Stats {
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
+            let pos = obj.mesh.positions();
+            let verts = &self.cache[prep.offset..prep.offset + pos.len()];
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t = tri.map(|i| verts[i as usize]);
+                let s = [t[0].s, t[1].s, t[2].s];
+                match classify(&t, cull, &self.vp, rows.clone()) {
+                    Class::Skip => st.culled += 1,
+                    Class::Draw => {
+                        st.drawn += 1;
+                        // Clip-space w, recomputed: the vertex cache keeps none.
+                        let w = tri.map(|i| prep.clip.transform(&pos[i as usize])[3]);
+                        st.pixels +=
+                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, mode);
+                    }
+                    Class::Clip => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                            pos: prep.clip.transform(&pos[tri[k] as usize]),
+                            c: s[k].c,
+                        });
+                        self.clip_fan(cv, cull, &mut st, |tri, w| {
+                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, tri, w, mode)
+                        });
+                    }
+                }
+            }
+        }
+        st
     }
 }
 

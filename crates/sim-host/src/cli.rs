@@ -16,20 +16,24 @@ USAGE:
                                   into out/ and print a table against the f64 reference
     fixshade render SCENE [-o OUT.png] [--span METHOD] [--shading MODE] [--format FMT]
                                   [--specular MODEL] [--divide DIV] [--strip ROWS] [--segment L]
-                                  [--threshold K] [--effects LIST] [--explain]
+                                  [--threshold K] [--perspective on|off] [--perspective-span N]
+                                  [--effects LIST] [--explain]
                                   render with the fixed-point core (OUT defaults to
                                   out/SCENE.png); prints the draw statistics. The
                                   effects (depth test, culling, lighting, shading, ...)
                                   are derived from the scene; --effects forces some on
                                   or off (e.g. -depth,+specular; names: depth, cull,
-                                  specular, lighting, local-viewer, -perspective);
+                                  specular, lighting, local-viewer, perspective);
+                                  --perspective on corrects Gouraud colours for
+                                  perspective, one division per N pixels (1..64,
+                                  default 16);
                                   --explain prints each effect, the rule that chose it
                                   and its measured share of the frame time
     fixshade effects [--out FILE] [--quick]
                                   the effects table: --explain, NMSE and time for the
                                   scenes in crates/sim-host/scenes/effects/ (FILE:
                                   docs/effects.md, or out/effects-quick.md with --quick)
-    fixshade reference SCENE -o OUT.png [--phong]
+    fixshade reference SCENE -o OUT.png [--phong] [--perspective on|off]
     fixshade compare REF.png TEST.png [--json]
     fixshade report [--quick] [--out DIR]
                                   accuracy against time for every span method and
@@ -95,6 +99,8 @@ pub(crate) struct Opts {
     json: bool,
     effects: Option<String>,
     explain: bool,
+    perspective: Option<bool>,
+    perspective_span: Option<u32>,
 }
 
 fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
@@ -130,6 +136,27 @@ fn parse_opts(args: &[String], allowed: &[&str]) -> Result<Opts, CliError> {
                         usage(format!("--strip takes a row count >= 1, found `{v}`"))
                     })?;
                 o.strip = Some(n);
+            }
+            "--perspective" => {
+                let v = value(a)?;
+                o.perspective = Some(match v.as_str() {
+                    "on" => true,
+                    "off" => false,
+                    _ => return Err(usage(format!("--perspective takes on or off, found `{v}`"))),
+                });
+            }
+            "--perspective-span" => {
+                let v = value(a)?;
+                let n = v
+                    .parse::<u32>()
+                    .ok()
+                    .filter(|n| n.is_power_of_two() && *n <= 64)
+                    .ok_or_else(|| {
+                        usage(format!(
+                            "--perspective-span takes 1, 2, 4, 8, 16, 32 or 64 pixels, found `{v}`"
+                        ))
+                    })?;
+                o.perspective_span = Some(n);
             }
             "--segment" | "--threshold" => crate::raycast::cli_option(&mut o, a, &value(a)?)?,
             "--phong" => o.phong = true,
@@ -169,6 +196,12 @@ fn load_with(o: &Opts) -> Result<LoadedScene, CliError> {
     }
     if let Some(v) = o.divide {
         d.divide = v;
+    }
+    if let Some(v) = o.perspective {
+        d.perspective_correct = v;
+    }
+    if let Some(v) = o.perspective_span {
+        d.perspective_span = v;
     }
     if let Some(list) = &o.effects {
         // Checked by `parse_opts`.
@@ -268,13 +301,22 @@ pub fn parse(args: &[String]) -> Result<Command, CliError> {
                 "--strip",
                 "--segment",
                 "--threshold",
+                "--perspective",
+                "--perspective-span",
                 "--effects",
                 "--explain",
             ],
             false,
         )?),
         "reference" => Cmd::Reference(scene_opts(
-            &["-o", "--output", "--phong", "--format", "--shading"],
+            &[
+                "-o",
+                "--output",
+                "--phong",
+                "--format",
+                "--shading",
+                "--perspective",
+            ],
             true,
         )?),
         "compare" => {

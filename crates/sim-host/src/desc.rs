@@ -291,6 +291,9 @@ pub enum SpanName {
     SierpinskiExact,
 }
 
+/// Default pixels per perspective division ([`SceneDesc::perspective_span`]).
+pub const DEFAULT_PERSPECTIVE_SPAN: u32 = 16;
+
 /// A whole scene as a scene file or a built-in scene describes it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneDesc {
@@ -320,8 +323,12 @@ pub struct SceneDesc {
     pub cull_back: bool,
     /// Use the u16 depth buffer.
     pub depth_test: bool,
-    /// Reference renderer: perspective-correct instead of screen-affine interpolation.
+    /// Perspective-correct instead of screen-affine interpolation of Gouraud colours,
+    /// in the fixed-point renderer and in the reference.
     pub perspective_correct: bool,
+    /// Pixels per perspective division of the fixed-point renderer: 1 (every pixel)
+    /// or a power of two up to 64 (sub-spans interpolated linearly).
+    pub perspective_span: u32,
     /// Specular model of the fixed-point renderer (the reference is always exact).
     pub specular: SpecularName,
     /// Divider of the fixed-point renderer's divisions (setup reciprocal, classic

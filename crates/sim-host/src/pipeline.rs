@@ -13,6 +13,7 @@ use crate::host_divide::HostDivide;
 use crate::image::{channel_max, expand, Image};
 use crate::reference::{render_reference, RefOptions};
 use crate::{mesh, scene_file};
+use fixshade::raster::perspective::Perspective;
 use fixshade::raster::span::NoDepth;
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::shade::Flat;
@@ -262,6 +263,13 @@ trait SpanDispatch {
         span: SpanName,
         fb: &mut impl fixshade::target::Target<P>,
     ) -> Result<Stats, String>;
+
+    /// [`Frame::draw_perspective`] with this dispatch's divider.
+    fn perspective<P: PixelFormat, Sp: Specular>(
+        frame: &Frame<'_, '_, '_, P, Sp>,
+        mode: Perspective,
+        fb: &mut impl fixshade::target::Target<P>,
+    ) -> Result<Stats, String>;
 }
 
 struct ExactSpans;
@@ -274,6 +282,14 @@ impl SpanDispatch for ExactSpans {
         fb: &mut impl fixshade::target::Target<P>,
     ) -> Result<Stats, String> {
         with_span_method!(span, S => frame.draw::<S, _>(fb)).map_err(|e| e.to_string())
+    }
+
+    fn perspective<P: PixelFormat, Sp: Specular>(
+        frame: &Frame<'_, '_, '_, P, Sp>,
+        mode: Perspective,
+        fb: &mut impl fixshade::target::Target<P>,
+    ) -> Result<Stats, String> {
+        draw_perspective::<fixshade::divide::Exact, _, _>(frame, mode, fb)
     }
 }
 
@@ -291,6 +307,24 @@ impl SpanDispatch for DividedSpans {
         }
         .map_err(|e| e.to_string())
     }
+
+    fn perspective<P: PixelFormat, Sp: Specular>(
+        frame: &Frame<'_, '_, '_, P, Sp>,
+        mode: Perspective,
+        fb: &mut impl fixshade::target::Target<P>,
+    ) -> Result<Stats, String> {
+        draw_perspective::<HostDivide, _, _>(frame, mode, fb)
+    }
+}
+
+fn draw_perspective<D: fixshade::divide::Divide, P: PixelFormat, Sp: Specular>(
+    frame: &Frame<'_, '_, '_, P, Sp>,
+    mode: Perspective,
+    fb: &mut impl fixshade::target::Target<P>,
+) -> Result<Stats, String> {
+    frame
+        .draw_perspective::<D, _>(fb, mode)
+        .map_err(|e| e.to_string())
 }
 
 /// Runs `$body` with `$Sp` bound to the scene's specular model and `$Sd` to its
@@ -321,9 +355,10 @@ macro_rules! with_specular_divide {
     }};
 }
 
-/// Draws a prepared frame with the scene's span method (dividing as `Sd` says), or
-/// with sampled Phong lighting when the scene asks for Phong with a segment sampler
-/// ([`crate::raycast::RaycastDesc::sampled`]).
+/// Draws a prepared frame with the scene's span method (dividing as `Sd` says), with
+/// sampled Phong lighting when the scene asks for Phong with a segment sampler
+/// ([`crate::raycast::RaycastDesc::sampled`]), or with perspective-correct colours
+/// when a Gouraud scene asks for them (coverage then follows `gradient`).
 fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
     frame: &Frame<'_, '_, '_, P, Sp>,
     d: &SceneDesc,
@@ -340,6 +375,15 @@ fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
         return frame
             .draw_phong_sampled(fb, sampling)
             .map_err(|e| e.to_string());
+    }
+    if d.perspective_correct && d.shading == ShadingName::Gouraud {
+        let mode = Perspective::new(d.perspective_span).ok_or_else(|| {
+            format!(
+                "perspective span {} is not a power of two from 1 to 64",
+                d.perspective_span
+            )
+        })?;
+        return Sd::perspective(frame, mode, fb);
     }
     Sd::dispatch(frame, d.span, fb)
 }
@@ -369,6 +413,18 @@ fn run_core<P: PixelFormat>(
     with_specular_divide!(ls.desc, Sp, Sd => run_core_with::<P, Sp, Sd>(ls, strip_rows))
 }
 
+/// The whole frame as one [`Strip`]: the pipelines draw into strips only, so each
+/// of them is compiled for one target type ([`Framebuffer`] is a strip of every row
+/// and draws the same bytes).
+fn whole_frame<'a, P: PixelFormat>(
+    color: &'a mut [P::Raw],
+    depth: Option<&'a mut [u16]>,
+    w: u32,
+    h: u32,
+) -> Result<Strip<'a, P>, String> {
+    Strip::<P>::new(color, depth, w, h, 0, h).map_err(|e| e.to_string())
+}
+
 fn run_core_with<P: PixelFormat, Sp: Specular, Sd: SpanDispatch>(
     ls: &LoadedScene,
     strip_rows: Option<u32>,
@@ -388,8 +444,7 @@ fn run_core_with<P: PixelFormat, Sp: Specular, Sd: SpanDispatch>(
         None => {
             let mut depth = vec![0xFFFFu16; n];
             let mut fb =
-                Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
-                    .map_err(|e| e.to_string())?;
+                whole_frame::<P>(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)?;
             stats = span_dispatch::<Sd, _, _>(&frame, d, &mut fb)?;
         }
         Some(rows) => {
@@ -431,13 +486,16 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     // The same span method as the colour pass: methods that move vertices
     // (sierpinski) change coverage too. The quadratic surface and Phong have their
     // own fills, which ignore the span method and cover what `gradient` covers.
-    if matches!(
-        d.shading,
-        ShadingName::Quadratic
-            | ShadingName::Phong
-            | ShadingName::PhongEvenOdd
-            | ShadingName::Adaptive
-    ) {
+    let perspective = d.perspective_correct && d.shading == ShadingName::Gouraud;
+    if perspective
+        || matches!(
+            d.shading,
+            ShadingName::Quadratic
+                | ShadingName::Phong
+                | ShadingName::PhongEvenOdd
+                | ShadingName::Adaptive
+        )
+    {
         frame.draw_with::<fixshade::raster::span::Gradient, NoDepth, Flat, _>(&mut fb)
     } else {
         with_span_method!(d.span, S => frame.draw_with::<S, NoDepth, Flat, _>(&mut fb))
@@ -527,8 +585,7 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
             let frame = Frame::<P>::prepare_with::<Sp>(&scene, w, h, &mut cache)
                 .map_err(|e| e.to_string())?;
             let mut fb =
-                Framebuffer::<P>::new(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)
-                    .map_err(|e| e.to_string())?;
+                whole_frame::<P>(&mut color, d.depth_test.then_some(&mut depth[..]), w, h)?;
             std::hint::black_box(span_dispatch::<Sd, _, _>(&frame, d, &mut fb)?);
             times.push(t.elapsed());
         }

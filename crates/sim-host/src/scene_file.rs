@@ -37,12 +37,13 @@
 //! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal and Schlick's denominator; `exact` keeps the full-precision divisions) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
-//! | `perspective_correct` | boolean | `false` | honoured by the reference renderer only |
+//! | `perspective_correct` | boolean | `false` | perspective-correct Gouraud colours (the fixed-point renderer and the reference; flat needs none, the quadratic surface and Phong interpolate affinely); see docs/effects.md |
+//! | `perspective_span` | integer | 16 | 1, 2, 4, …, 64: pixels per perspective division of the fixed-point renderer (1: every pixel; otherwise linear in between) |
 //! | `segment` | integer | 8 | 1..=256; `raycast`, and `phong` when given: segment length L of the pixel-segment sampler (1: every pixel; Phong samples within pieces of 64 pixels of a span) |
 //! | `threshold` | number | 2.3 | 0..=256; `raycast`, and `phong` when given: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |
 //! | `block` | boolean | `false` | `raycast` only: sample L × L blocks instead of row segments |
 //! | `shadows` | boolean | `true` | `raycast` only: hard shadows from the first light |
-//! | `effects` | string | `""` | effects forced on or off, e.g. `"-depth,+specular"`: comma-separated `+NAME`/`-NAME` with NAME one of `depth`, `cull`, `specular`, `lighting`, `local-viewer`, `perspective` (only `-perspective`); see docs/effects.md |
+//! | `effects` | string | `""` | effects forced on or off, e.g. `"-depth,+specular"`: comma-separated `+NAME`/`-NAME` with NAME one of `depth`, `cull`, `specular`, `lighting`, `local-viewer`, `perspective`; see docs/effects.md |
 //!
 //! ## `[camera]` (required)
 //!
@@ -342,6 +343,7 @@ const RENDER_KEYS: &[&str] = &[
     "cull",
     "depth_test",
     "perspective_correct",
+    "perspective_span",
     "segment",
     "threshold",
     "block",
@@ -734,6 +736,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         cull_back: true,
         depth_test: true,
         perspective_correct: false,
+        perspective_span: crate::desc::DEFAULT_PERSPECTIVE_SPAN,
         specular: SpecularName::Exact,
         divide: DivideName::Exact,
         raycast: crate::raycast::RaycastDesc::default(),
@@ -874,6 +877,16 @@ fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;
     desc.perspective_correct = s.boolean("perspective_correct", desc.perspective_correct)?;
+    desc.perspective_span = s.int_in("perspective_span", desc.perspective_span, 1, 64)?;
+    if !desc.perspective_span.is_power_of_two() {
+        return fail(
+            s.span_of("perspective_span"),
+            format!(
+                "`perspective_span` must be 1, 2, 4, 8, 16, 32 or 64, found {}",
+                desc.perspective_span
+            ),
+        );
+    }
     if let Some(v) = s.get("effects") {
         let list = string("effects", v)?;
         desc.effects = crate::effects::Overrides::parse(list, crate::effects::Source::SceneFile)

@@ -29,6 +29,7 @@
 
 pub mod edge;
 pub mod parallel;
+pub mod perspective;
 pub mod phong;
 pub mod quadratic;
 pub mod setup;
@@ -48,6 +49,14 @@ pub const SUBPIXEL_BITS: u32 = 4;
 /// Guard band: screen coordinates must satisfy |x|, |y| < `GUARD` (Q12.4), i.e. lie
 /// within ±4096 pixels of the origin. Anything inside is rasterized without clipping.
 pub const GUARD: i32 = 4096 << SUBPIXEL_BITS;
+
+/// True if a vertex lies outside the guard band (such triangles are not drawn).
+/// `unsigned_abs`: a coordinate at `i32::MIN` is outside too, without overflow.
+#[inline]
+pub(crate) fn outside_guard(p: [(i32, i32); 3]) -> bool {
+    p.iter()
+        .any(|(x, y)| x.unsigned_abs() >= GUARD as u32 || y.unsigned_abs() >= GUARD as u32)
+}
 
 /// A vertex in screen space.
 ///
@@ -146,10 +155,7 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    // `unsigned_abs`: `abs` of i32::MIN overflows.
-    if v.iter()
-        .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
-    {
+    if outside_guard(v.map(|p| (p.x, p.y))) {
         return 0;
     }
     let Some(s) = S::setup(v) else {

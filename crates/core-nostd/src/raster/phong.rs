@@ -45,7 +45,7 @@
 use super::edge::first_row;
 use super::setup::{setup_with_det, Det, Setup, ROUND_BIAS};
 use super::span::{depth_of, DepthMode};
-use super::{row_range, scan, ScreenVertex, GUARD};
+use super::{row_range, scan, ScreenVertex};
 use crate::math::{normalize_fast_q30, ONE_Q30};
 use crate::sampler::{fill_row, PixelFn, Threshold};
 use crate::target::{to_channels, PixelFormat, Target};
@@ -379,10 +379,7 @@ where
     F: PhongFill,
     L: PixelLight,
 {
-    // `unsigned_abs`: a vertex at i32::MIN is outside too (no overflow).
-    if v.iter()
-        .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
-    {
+    if super::outside_guard(v.map(|p| (p.x, p.y))) {
         return (0, 0);
     }
     if Z::TEST && !target.has_depth() {

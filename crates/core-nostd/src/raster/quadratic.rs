@@ -60,7 +60,7 @@ use core::ops::Range;
 use super::edge::{first_row, EdgeStepper};
 use super::setup::{setup, Setup};
 use super::span::DepthMode;
-use super::{ScreenVertex, GUARD};
+use super::ScreenVertex;
 use crate::target::{PixelFormat, Target};
 
 /// Fraction bits of the surface values, in channel units.
@@ -566,10 +566,7 @@ pub fn draw_quadratic<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     mid: [[i32; 3]; 3],
     fill: Fill,
 ) -> u32 {
-    // `unsigned_abs`: `abs` of i32::MIN overflows.
-    if v.iter()
-        .any(|p| p.x.unsigned_abs() >= GUARD as u32 || p.y.unsigned_abs() >= GUARD as u32)
-    {
+    if super::outside_guard(v.map(|p| (p.x, p.y))) {
         return 0;
     }
     let (Some(s), Some(q)) = (setup(v), Quad::fit(v, mid)) else {

@@ -285,6 +285,7 @@ mod tests {
             cull_back: false,
             depth_test: true,
             perspective_correct: false,
+            perspective_span: crate::desc::DEFAULT_PERSPECTIVE_SPAN,
             specular: crate::desc::SpecularName::Exact,
             divide: crate::desc::DivideName::Exact,
             raycast: Default::default(),
