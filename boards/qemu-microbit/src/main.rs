@@ -151,6 +151,13 @@ fn stack_used() -> usize {
     }
 }
 
+/// Bytes between the end of the statics and the top of RAM.
+#[allow(unsafe_code)]
+fn stack_room() -> usize {
+    // SAFETY: only the symbols' addresses are taken.
+    unsafe { core::ptr::addr_of!(_stack_start) as usize - core::ptr::addr_of!(__ebss) as usize }
+}
+
 /// `<figure>-<case>.rgb565` as a C string in `buf`.
 fn file_name<'b>(buf: &'b mut [u8; 64], figure: &str, case: &str) -> &'b CStr {
     let mut n = 0;
@@ -316,16 +323,26 @@ fn frame<'s>(
         height: h,
         ..FrameLog::default()
     };
-    // Pass 1: the screen rows (Q12.4) each chunk's vertices reach; a chunk with a
-    // vertex outside the guard band or depth range may reach any row.
-    let mut reach = [(i32::MIN, i32::MAX); MAX_CHUNKS];
+    // Pass 1: the pixel rows each chunk may draw; a chunk with a vertex outside the
+    // guard band or depth range may reach any row. The rasterizer skips a triangle
+    // whose rows miss the target's (pixel centres at 16·y + 8), so does this, per
+    // chunk, with a margin of `SNAP_MARGIN` (Q12.4) for span methods that move
+    // vertices (sierpinski snaps them to even pixels, up to one pixel away): with
+    // `lo`, `hi` the chunk's extreme y (Q12.4), rows `s..e` are missed exactly when
+    // `hi + M < 16s + 8` or `lo − M > 16e − 8`, i.e. when `⌊(hi + M − 8)/16⌋ < s`
+    // or `⌊(lo − M + 7)/16⌋ ≥ e`; those two row numbers are kept, as i16 (the guard
+    // band's rows fit), to keep this array's 256 bytes off a stack that is short of
+    // room.
+    let mut reach = [(i16::MIN, i16::MAX); MAX_CHUNKS];
     for (k, c) in chunks.iter().enumerate() {
         log.prepare += prepare(scene, c, cache, counter)?;
         let v = &cache[..c.0.len()];
         if v.iter().all(|x| x.flags & OUTSIDE == 0) {
-            let lo = v.iter().map(|x| x.s.y).min().unwrap_or(i32::MAX);
-            let hi = v.iter().map(|x| x.s.y).max().unwrap_or(i32::MIN);
-            reach[k] = (lo, hi);
+            let lo = v.iter().map(|x| x.s.y).min().unwrap_or(i32::MAX) as i64;
+            let hi = v.iter().map(|x| x.s.y).max().unwrap_or(i32::MIN) as i64;
+            let m = SNAP_MARGIN as i64;
+            let row = |q: i64| q.div_euclid(16).clamp(i16::MIN as i64, i16::MAX as i64) as i16;
+            reach[k] = (row(lo - m + 7), row(hi + m - 8));
         }
     }
     let mut buf = [0u8; 64];
@@ -337,16 +354,9 @@ fn frame<'s>(
         strip.clear(bg);
         let r = strip.rows();
         for (k, c) in chunks.iter().enumerate() {
-            // The rasterizer skips a triangle whose rows miss the target's (pixel
-            // centres at 16·y + 8): so does this, per chunk, with a margin of
-            // `SNAP_MARGIN` for span methods that move vertices (sierpinski snaps
-            // them to even pixels, up to one pixel away).
-            let (lo, hi) = reach[k];
-            let (lo, hi) = (
-                lo.saturating_sub(SNAP_MARGIN),
-                hi.saturating_add(SNAP_MARGIN),
-            );
-            if hi < 16 * r.start + 8 || lo > 16 * r.end - 8 {
+            // Rows this chunk may draw: `first..=last` (see pass 1).
+            let (first, last) = reach[k];
+            if (last as i32) < r.start || first as i32 >= r.end {
                 continue;
             }
             let (prepare, draw, stats) = prepare_and_draw(scene, c, draw, strip, cache, counter)?;
@@ -391,7 +401,13 @@ fn prepare_and_draw<'s>(
 ) -> Result<(u64, u64, Stats), &'static str> {
     let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
-    let (frame, prepare) = counter.measure(|| Frame::<Rgb565Le>::prepare(scene, w, h, cache));
+    // Ticks read around the call rather than through `Counter::measure`: its
+    // `(Result<Frame>, u64)` would be one more copy of the frame (about 1.2 KiB) on
+    // a stack that has no room for it.
+    let t0 = counter.ticks();
+    let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);
+    let t1 = counter.ticks();
+    let prepare = counter.instructions(t1 - t0);
     let frame = frame.map_err(|_| "prepare failed")?;
     let (stats, draw) = counter.measure(|| draw(&frame, strip));
     Ok((prepare, draw, stats.map_err(|_| "draw failed")?))
@@ -401,7 +417,15 @@ fn prepare_and_draw<'s>(
 fn main() -> ! {
     paint_stack();
     let r = run();
-    let _ = writeln!(Console, "STACK {BOARD} {} {}", FIGURE.0, stack_used());
+    let used = stack_used();
+    let _ = writeln!(Console, "STACK {BOARD} {} {}", FIGURE.0, used);
+    // Every painted word overwritten: the stack reached the statics below it (it
+    // did once, by 92 bytes, and corrupted the instruction counter's wrap count).
+    let r = if used >= stack_room() {
+        Err("stack overflow: the stack used all the RAM above the statics")
+    } else {
+        r
+    };
     match r {
         Ok(()) => {
             let _ = writeln!(Console, "DONE {BOARD}");

@@ -9,6 +9,7 @@ use defmt::{write, Format, Formatter};
 use crate::fixed::{Angle, NumError, Q16_16, Q2_14};
 use crate::geometry::{MeshError, Viewport};
 use crate::light::{Light, LightKind, Material};
+use crate::raster::perspective::Perspective;
 use crate::raster::ScreenVertex;
 use crate::render::{RenderError, Stats, XfVertex};
 use crate::scene::{Camera, CapacityError, Placement, Projection, ShadingMode};
@@ -71,6 +72,12 @@ impl Format for ScreenVertex {
             "ScreenVertex {{ x: {=i32}, y: {=i32}, z: {=u32}, c: {} }}",
             self.x, self.y, self.z, self.c
         )
+    }
+}
+
+impl Format for Perspective {
+    fn format(&self, f: Formatter<'_>) {
+        write!(f, "Perspective(every {=u32} px)", self.span())
     }
 }
 
