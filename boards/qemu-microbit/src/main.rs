@@ -151,11 +151,10 @@ fn stack_used() -> usize {
     }
 }
 
-/// Bytes between the end of the statics and the top of RAM.
-#[allow(unsafe_code)]
+/// Bytes between the end of the statics and the top of RAM (only the symbols'
+/// addresses are taken).
 fn stack_room() -> usize {
-    // SAFETY: only the symbols' addresses are taken.
-    unsafe { core::ptr::addr_of!(_stack_start) as usize - core::ptr::addr_of!(__ebss) as usize }
+    core::ptr::addr_of!(_stack_start) as usize - core::ptr::addr_of!(__ebss) as usize
 }
 
 /// `<figure>-<case>.rgb565` as a C string in `buf`.
