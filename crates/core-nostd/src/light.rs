@@ -342,7 +342,7 @@ impl<S: Specular> LightingSetup<S> {
             let (l, att, h) = match light.kind {
                 EyeKind::Directional { l, h } => {
                     let h = if self.local_viewer { half(l, view) } else { h };
-                    (l, 1i64 << 16, h)
+                    (l, None, h)
                 }
                 EyeKind::Point { pos, att } => {
                     let d = [
@@ -354,18 +354,33 @@ impl<S: Specular> LightingSetup<S> {
                         continue;
                     };
                     let a = attenuation(d, att);
-                    (l, a, half(l, view))
+                    (l, Some(a), half(l, view))
                 }
             };
-            for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                *c += (amb * att) >> 16;
+            // `att` None: a directional light, attenuation exactly 1 (2¹⁶ in
+            // Q16.16); its products are skipped, with the same values
+            // ((x·2¹⁶) >> 16 = x, (2¹⁶·y) >> 30 = y >> 14).
+            match att {
+                None => {
+                    for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
+                        *c += amb;
+                    }
+                }
+                Some(a) => {
+                    for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
+                        *c += (amb * a) >> 16;
+                    }
+                }
             }
             let nl = dot_q30(n, l);
             if nl <= 0 {
                 continue;
             }
             // att·(N·L): Q16.16 · Q2.30 → Q16.16.
-            let f = (att * nl as i64) >> 30;
+            let f = match att {
+                None => nl as i64 >> 14,
+                Some(a) => (a * nl as i64) >> 30,
+            };
             for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
                 *c += (dif * f) >> 16;
             }
@@ -380,10 +395,9 @@ impl<S: Specular> LightingSetup<S> {
             let s = S::eval_wide(&self.spec, nh.min(ONE_Q30));
             // att ≤ 2^31 (Q16.16) and s ≤ 2^36 (Q.30): the product needs i128 only
             // for a point light; a directional light's att is exactly 2^16.
-            let f = if att == 1 << 16 {
-                (s >> 14) as i64
-            } else {
-                ((att as i128 * s as i128) >> 30) as i64
+            let f = match att {
+                None => (s >> 14) as i64,
+                Some(a) => ((a as i128 * s as i128) >> 30) as i64,
             };
             for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
                 *c += (sp * f) >> 16;
