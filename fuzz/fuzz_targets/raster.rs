@@ -17,11 +17,15 @@
 //! `sierpinski`, each triangle covers exactly the pixels of the exact top-left
 //! coverage model (none when a vertex is outside the guard band) and reports that
 //! many; `sierpinski` writes no pixel twice; the quadratic fills cover what
-//! `gradient` covers; with vertex colours in range, recorded channels stay in range.
+//! `gradient` covers, and so does the perspective fill (the first midpoint colour
+//! word as the vertices' w; nothing drawn when one is not positive); with vertex
+//! colours in range, recorded channels stay in range.
 //! Phong: both fills cover exactly what `gradient` covers (without depth), the
 //! even/odd fill equals the row fill, recorded channels stay in range.
 #![no_main]
 
+use fixshade::divide::{Exact, ShiftAdd};
+use fixshade::raster::perspective::{draw_triangle_perspective, Perspective};
 use fixshade::raster::phong::{draw_phong, EvenOdd as PhongEvenOdd, PhongVertex, Rows};
 use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth};
@@ -149,6 +153,29 @@ fn coverage(c: &Case, v: &[ScreenVertex; 3], mid: &[[i32; 3]; 3]) {
         let total: u32 = got.iter().map(|p| *p as u32).sum();
         assert_eq!(total, nq, "quadratic reported {nq} pixels, wrote {total}");
         assert_eq!(got, want, "quadratic coverage differs from the exact model");
+    }
+    // The perspective fill (the first midpoint colour as the vertices' w) covers
+    // what `gradient` covers, per pixel and by sub-spans, with the exact and a
+    // 4-term divider; nothing when a w is not positive.
+    let w = mid[0].map(|x| x as i64);
+    let none = vec![0u16; want.len()];
+    let expect = if w.iter().all(|x| *x > 0) { &want } else { &none };
+    for mode in [Perspective::PER_PIXEL, Perspective::SUB16] {
+        for exact in [true, false] {
+            let mut p = new();
+            let np = if exact {
+                draw_triangle_perspective::<Count, _, NoDepth, Gouraud, Exact>(&mut p, *v, w, mode)
+            } else {
+                draw_triangle_perspective::<Count, _, NoDepth, Gouraud, ShiftAdd<4>>(
+                    &mut p, *v, w, mode,
+                )
+            };
+            assert!(p.intact(), "perspective: write outside the target");
+            let got = p.pixels();
+            let total: u32 = got.iter().map(|p| *p as u32).sum();
+            assert_eq!(total, np, "perspective reported {np} pixels, wrote {total}");
+            assert_eq!(&got, expect, "perspective coverage differs from the exact model");
+        }
     }
 }
 

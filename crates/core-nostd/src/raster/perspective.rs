@@ -199,8 +199,11 @@ impl PerspSetup {
         };
         let b1 = ((n1 * r) >> 30).min(1 << 16) as i64;
         let b2 = (((n2 * r) >> 30) as i64).min((1 << 16) - b1);
-        // |d| < 2^25 and β ≤ 2^16: each product below 2^41; the colour is a convex
-        // combination of the vertex colours (plus the bias) and fits i32.
+        // Colours in range: |d| < 2^25 and β ≤ 2^16, each product below 2^41, and
+        // the colour is a convex combination of the vertex colours (plus the bias),
+        // so it fits i32. Any i32 colours: |d| < 2^33, the sum below 2^50 fits i64,
+        // and the cast wraps (out-of-range input gives wrong colours, never a panic;
+        // the differences of two samples below wrap too).
         core::array::from_fn(|k| (self.c0[k] + ((b1 * self.d1[k] + b2 * self.d2[k]) >> 16)) as i32)
     }
 }
@@ -277,7 +280,7 @@ where
         while i + sub < n {
             e = p.step(e, sub as i64);
             let next = p.colour::<D>(e);
-            let inc = core::array::from_fn(|k| (next[k] - c[k]) >> log2);
+            let inc = core::array::from_fn(|k| next[k].wrapping_sub(c[k]) >> log2);
             run::<P, Z, Sh>(color, depth, i, (sub, inc), c, z, gz);
             c = next;
             i += sub;
@@ -290,7 +293,7 @@ where
         } else {
             let end = p.colour::<D>(p.step(e, last as i64));
             let r = D::recip(last);
-            core::array::from_fn(|k| D::div(end[k] - c[k], &r))
+            core::array::from_fn(|k| D::div(end[k].wrapping_sub(c[k]), &r))
         };
         run::<P, Z, Sh>(color, depth, i, (n - i, inc), c, z, gz);
     })
@@ -480,7 +483,13 @@ mod tests {
                 x: coord(next()),
                 y: coord(next()),
                 z: (next() as u32) >> 1,
-                c: [(next() % (256 << 16)) as i32; 3],
+                // In range for most; any i32 for every fifth (found by the fuzzer:
+                // a difference of two out-of-range samples overflowed).
+                c: if i % 5 == 4 {
+                    [next() as i32, next() as i32, next() as i32]
+                } else {
+                    [(next() % (256 << 16)) as i32; 3]
+                },
             });
             let w: [i64; 3] = core::array::from_fn(|_| 1 + (next() % (1 << (next() % 41))) as i64);
             let mut a = vec![0u8; 64 * 64];
