@@ -400,9 +400,9 @@ fn prepare_and_draw<'s>(
 ) -> Result<(u64, u64, Stats), &'static str> {
     let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
-    // Ticks read around the call rather than through `Counter::measure`: its
-    // `(Result<Frame>, u64)` would be one more copy of the frame (about 1.2 KiB) on
-    // a stack that has no room for it.
+    // Ticks read around the call rather than through `Counter::measure`, whose
+    // `(Result<Frame>, u64)` cost this function 32 more bytes of a stack that is
+    // short of room (measured with `-Z emit-stack-sizes`).
     let t0 = counter.ticks();
     let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);
     let t1 = counter.ticks();
