@@ -116,23 +116,18 @@ struct PerspSetup {
 
 impl PerspSetup {
     /// `None` for a zero-area triangle. Vertices in the guard band, `w > 0`.
-    fn new<D: Divide>(mut v: [ScreenVertex; 3], mut w: [i64; 3]) -> Option<PerspSetup> {
-        // The setup's sort, applied to the pairs, so its own sort keeps this order.
-        let key = |p: &ScreenVertex| (p.y, p.x);
-        if key(&v[1]) < key(&v[0]) {
-            v.swap(0, 1);
-            w.swap(0, 1);
-        }
-        if key(&v[2]) < key(&v[1]) {
-            v.swap(1, 2);
-            w.swap(1, 2);
-            if key(&v[1]) < key(&v[0]) {
-                v.swap(0, 1);
-                w.swap(0, 1);
-            }
-        }
+    fn new<D: Divide>(v: [ScreenVertex; 3], w: [i64; 3]) -> Option<PerspSetup> {
         let colourless = v.map(|p| ScreenVertex { c: [0; 3], ..p });
         let (s, det) = setup_with_det_div::<D>(colourless)?;
+        // The setup sorted the vertices. A triangle of non-zero area has three
+        // distinct positions, so each sorted vertex names its input (colour and w).
+        let from = s.v.map(|sv| {
+            (0..3)
+                .find(|&i| (v[i].x, v[i].y) == (sv.x, sv.y))
+                .unwrap_or(0)
+        });
+        let v = from.map(|i| v[i]);
+        let w = from.map(|i| w[i]);
         // q_i = 2^15·w_min/w_i: w shifted below 2^40 first, so `w_min << 15` < 2^55.
         let w = w.map(|x| x.max(1) as u64);
         let top = 64 - (w[0] | w[1] | w[2]).leading_zeros();
@@ -178,10 +173,10 @@ impl PerspSetup {
         })
     }
 
-    /// Moves plane values `n` pixels to the right.
+    /// The planes' change over `n` pixels to the right.
     #[inline]
-    fn step(&self, e: [i64; 3], n: i64) -> [i64; 3] {
-        core::array::from_fn(|k| e[k].wrapping_add(n.wrapping_mul(self.planes[k].gx)))
+    fn along(&self, n: i64) -> [i64; 3] {
+        self.planes.map(|p| n.wrapping_mul(p.gx))
     }
 
     /// The perspective-correct colour from plane values: one reciprocal through `D`.
@@ -259,6 +254,12 @@ where
     let gz = p.s.gx[3];
     let log2 = mode.log2 as u32;
     let sub = 1usize << log2;
+    // Per-triangle steps: one pixel, and one sub-span, of the planes and the depth.
+    let (g1, gsub) = (p.along(1), p.along(sub as i64));
+    let zsub = (sub as i32).wrapping_mul(gz);
+    let add = |e: [i64; 3], g: &[i64; 3]| -> [i64; 3] {
+        core::array::from_fn(|k| e[k].wrapping_add(g[k]))
+    };
     scan::<P, T, Z, _>(target, &p.s, rows, false, |color, depth, span| {
         let n = color.len();
         let mut e = p.at(span.x0, span.y);
@@ -269,7 +270,7 @@ where
                 let mut none = 0u16;
                 let d = if Z::TEST { &mut depth[i] } else { &mut none };
                 pack_pixel::<P, Z>(&mut color[i], d, &[c[0], c[1], c[2], z]);
-                e = p.step(e, 1);
+                e = add(e, &g1);
                 z = z.wrapping_add(gz);
             }
             return;
@@ -278,20 +279,20 @@ where
         let mut i = 0;
         // Whole sub-spans: each one's end is the next one's start.
         while i + sub < n {
-            e = p.step(e, sub as i64);
+            e = add(e, &gsub);
             let next = p.colour::<D>(e);
             let inc = core::array::from_fn(|k| next[k].wrapping_sub(c[k]) >> log2);
             run::<P, Z, Sh>(color, depth, i, (sub, inc), c, z, gz);
             c = next;
             i += sub;
-            z = z.wrapping_add((sub as i32).wrapping_mul(gz));
+            z = z.wrapping_add(zsub);
         }
         // The rest of the span (1..=sub pixels), interpolated to its last pixel.
         let last = (n - 1 - i) as u32;
         let inc = if last == 0 {
             [0; 3]
         } else {
-            let end = p.colour::<D>(p.step(e, last as i64));
+            let end = p.colour::<D>(add(e, &p.along(last as i64)));
             let r = D::recip(last);
             core::array::from_fn(|k| D::div(end[k].wrapping_sub(c[k]), &r))
         };
