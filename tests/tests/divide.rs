@@ -208,3 +208,174 @@ fn pipeline_dividers_on_the_sphere() {
     assert!(e("shift-add-8") > e("shift-add-16"), "{errs:?}");
     assert!(e("shift-add-4") > 0);
 }
+
+/// The quadratic, Phong and adaptive paths take their setup's reciprocal through
+/// the divider too (`SpanMethod::Divider`): on the sphere every divider keeps the
+/// coverage and the draw statistics, `exact` is the default render, the coarsest
+/// divider changes pixels and the error shrinks as N grows.
+#[test]
+fn per_pixel_shadings_take_the_divider() {
+    use fixshade_sim::desc::ShadingName;
+    for shading in [
+        ShadingName::Quadratic,
+        ShadingName::Phong,
+        ShadingName::Adaptive,
+    ] {
+        let mut ls = pipeline::load_arg("sphere").unwrap();
+        ls.desc.shading = shading;
+        let base = pipeline::render(&ls, None).unwrap();
+        let mut errs = Vec::new();
+        for name in [
+            "exact",
+            "table",
+            "shift-add-4",
+            "shift-add-8",
+            "shift-add-16",
+        ] {
+            ls.desc.divide = DivideName::parse(name).unwrap();
+            let r = pipeline::render(&ls, None).unwrap();
+            assert_eq!(
+                r.image.covered, base.image.covered,
+                "{shading:?} {name}: coverage"
+            );
+            assert_eq!(r.stats, base.stats, "{shading:?} {name}: draw statistics");
+            let sq: u64 = r
+                .image
+                .pixels
+                .iter()
+                .zip(&base.image.pixels)
+                .flat_map(|(a, b)| (0..3).map(move |k| (a[k] as i64 - b[k] as i64).pow(2) as u64))
+                .sum();
+            errs.push((name, sq));
+        }
+        let e = |n: &str| errs.iter().find(|x| x.0 == n).unwrap().1;
+        println!("{shading:?}: squared error against exact {errs:?}");
+        assert_eq!(e("exact"), 0, "{shading:?}");
+        assert!(e("shift-add-4") > 0, "{shading:?}: the divider is not used");
+        assert!(e("shift-add-4") > e("shift-add-8"), "{shading:?} {errs:?}");
+        assert!(
+            e("shift-add-8") >= e("shift-add-16"),
+            "{shading:?} {errs:?}"
+        );
+        assert!(e("table") <= e("shift-add-8"), "{shading:?} {errs:?}");
+    }
+}
+
+/// At the raster level: `draw_quadratic_div` and `draw_phong_div` with `Exact` draw
+/// exactly what `draw_quadratic` and `draw_phong` draw, and every divider keeps
+/// their coverage, on the same triangles as above (slivers to far beyond the
+/// target).
+#[test]
+fn quadratic_and_phong_fills_keep_coverage_with_every_divider() {
+    use fixshade::raster::phong::{draw_phong, draw_phong_div, PhongVertex, PixelLight, Rows};
+    use fixshade::raster::quadratic::{draw_quadratic, draw_quadratic_div, Fill};
+
+    /// Colour from the interpolated normal (any non-black value marks coverage).
+    struct Normal;
+    impl PixelLight for Normal {
+        fn light(&self, _p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+            n.map(|c| (c >> 15).clamp(1 << 8, 1 << 15))
+        }
+    }
+    fn phong_vertex(v: &ScreenVertex, k: usize) -> PhongVertex {
+        let n = [
+            [1 << 29, 1 << 28, 1 << 30],
+            [-(1 << 29), 0, 1 << 30],
+            [0, -(1 << 29), 1 << 29],
+        ][k];
+        PhongVertex {
+            x: v.x,
+            y: v.y,
+            z: 0,
+            n,
+            p: [0; 3],
+        }
+    }
+    fn frames(
+        tris: &[[ScreenVertex; 3]],
+        draw: impl Fn(&mut Framebuffer<'_, Rgb888>, [ScreenVertex; 3]) -> u32,
+    ) -> (Vec<[u8; 3]>, u64) {
+        let n = (W * H) as usize;
+        let (mut all, mut count) = (Vec::new(), 0u64);
+        for t in tris {
+            let mut color = vec![[0u8; 3]; n];
+            let mut fb = Framebuffer::<Rgb888>::new(&mut color, None, W, H).unwrap();
+            count += draw(&mut fb, *t) as u64;
+            all.extend(color);
+        }
+        (all, count)
+    }
+    fn covered(f: &[[u8; 3]]) -> Vec<bool> {
+        f.iter().map(|p| *p != [0; 3]).collect()
+    }
+    // Edge midpoints bright, so a quadratic pixel is never black where covered.
+    let mid = [[200 << 16; 3]; 3];
+    let tris: Vec<[ScreenVertex; 3]> = triangles()
+        .into_iter()
+        .map(|t| {
+            t.map(|v| ScreenVertex {
+                c: [100 << 16; 3],
+                ..v
+            })
+        })
+        .collect();
+    let quad = |fb: &mut Framebuffer<'_, Rgb888>, t| {
+        draw_quadratic::<Rgb888, _, NoDepth>(fb, t, mid, Fill::Rows)
+    };
+    let phong = |fb: &mut Framebuffer<'_, Rgb888>, t: [ScreenVertex; 3]| {
+        let v = [0, 1, 2].map(|k| phong_vertex(&t[k], k));
+        draw_phong::<Rgb888, _, NoDepth, Rows, _>(fb, v, &Normal)
+    };
+    let (q_e, q_n) = frames(&tris, quad);
+    let (p_e, p_n) = frames(&tris, phong);
+    assert!(q_n > 0 && p_n > 0);
+    fn one<D: Divide>(
+        tris: &[[ScreenVertex; 3]],
+        mid: [[i32; 3]; 3],
+        q: &(Vec<[u8; 3]>, u64),
+        p: &(Vec<[u8; 3]>, u64),
+    ) -> u8 {
+        let quad = |fb: &mut Framebuffer<'_, Rgb888>, t| {
+            draw_quadratic_div::<Rgb888, _, NoDepth, D>(fb, t, mid, Fill::Rows)
+        };
+        let phong = |fb: &mut Framebuffer<'_, Rgb888>, t: [ScreenVertex; 3]| {
+            let v = [0, 1, 2].map(|k| phong_vertex(&t[k], k));
+            draw_phong_div::<Rgb888, _, NoDepth, Rows, D, _>(fb, v, &Normal)
+        };
+        let (qd, qn) = frames(tris, quad);
+        let (pd, pn) = frames(tris, phong);
+        assert_eq!(qn, q.1, "quadratic {}: pixel count", D::NAME);
+        assert_eq!(pn, p.1, "phong {}: pixel count", D::NAME);
+        assert!(
+            covered(&qd) == covered(&q.0),
+            "quadratic {}: coverage",
+            D::NAME
+        );
+        assert!(covered(&pd) == covered(&p.0), "phong {}: coverage", D::NAME);
+        if D::EXACT {
+            assert!(
+                qd == q.0 && pd == p.0,
+                "exact through the seam changed pixels"
+            );
+        }
+        let worst = |a: &[[u8; 3]], b: &[[u8; 3]]| {
+            a.iter()
+                .zip(b)
+                .flat_map(|(x, y)| (0..3).map(move |k| x[k].abs_diff(y[k])))
+                .max()
+                .unwrap_or(0)
+        };
+        worst(&qd, &q.0).max(worst(&pd, &p.0))
+    }
+    let w: Vec<u8> = vec![
+        one::<Exact>(&tris, mid, &(q_e.clone(), q_n), &(p_e.clone(), p_n)),
+        one::<Table>(&tris, mid, &(q_e.clone(), q_n), &(p_e.clone(), p_n)),
+        one::<ShiftAdd<4>>(&tris, mid, &(q_e.clone(), q_n), &(p_e.clone(), p_n)),
+        one::<ShiftAdd<8>>(&tris, mid, &(q_e.clone(), q_n), &(p_e.clone(), p_n)),
+        one::<ShiftAddRounded<12>>(&tris, mid, &(q_e.clone(), q_n), &(p_e.clone(), p_n)),
+        one::<ShiftAdd<16>>(&tris, mid, &(q_e, q_n), &(p_e, p_n)),
+    ];
+    println!("largest channel difference against exact: {w:?}");
+    assert_eq!(w[0], 0);
+    assert!(w[2] > 0, "shift-add-4 changed nothing");
+}

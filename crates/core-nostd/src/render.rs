@@ -55,18 +55,18 @@
 use core::marker::PhantomData;
 
 use crate::clip::{clip_triangle, is_front, ClipVertex};
-use crate::divide::Divide;
+use crate::divide::{Divide, Exact};
 use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
 use crate::raster::perspective::{draw_triangle_perspective, Perspective};
 use crate::raster::phong::{
-    self, draw_phong, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
+    self, draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
 };
-use crate::raster::quadratic::draw_quadratic;
-use crate::raster::span::Gradient;
+use crate::raster::quadratic::draw_quadratic_div;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
+use crate::raster::span::{Gradient, WithDivide};
 use crate::raster::{draw_triangle, ScreenVertex, GUARD};
 use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
 use crate::shade::{Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
@@ -433,8 +433,10 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
 
     /// Draws with every variant chosen by type: span method, depth mode, shading.
     ///
-    /// Quadratic ([`Shading::QUADRATIC`]) and Phong ([`Shading::PER_PIXEL`]) shading
-    /// have their own fills and ignore `S`; their coverage is that of [`Gradient`].
+    /// Quadratic ([`Shading::QUADRATIC`]), Phong ([`Shading::PER_PIXEL`]) and
+    /// adaptive shading have their own fills and take from `S` only its
+    /// [`SpanMethod::Divider`] (for their setup's reciprocal); their coverage is that
+    /// of [`Gradient`].
     pub fn draw_with<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
         &self,
         target: &mut T,
@@ -443,16 +445,16 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             return Err(RenderError::TargetSizeMismatch);
         }
         if Sh::ADAPTIVE {
-            return self.draw_adaptive::<Z, T>(target);
+            return self.draw_adaptive::<S::Divider, Z, T>(target);
         }
         if Sh::QUADRATIC {
-            return self.draw_quadratic::<Z, Sh, T>(target);
+            return self.draw_quadratic::<S::Divider, Z, Sh, T>(target);
         }
         if Sh::PER_PIXEL {
             return if Sh::EVEN_ODD {
-                self.draw_phong::<Z, phong::EvenOdd, T>(target, None)
+                self.draw_phong::<S::Divider, Z, phong::EvenOdd, T>(target, None)
             } else {
-                self.draw_phong::<Z, phong::Rows, T>(target, None)
+                self.draw_phong::<S::Divider, Z, phong::Rows, T>(target, None)
             };
         }
         let mut st = Stats::default();
@@ -538,14 +540,14 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             return Err(RenderError::NoDepthBuffer);
         }
         if self.scene.depth_test {
-            self.draw_phong::<DepthTest, phong::Rows, T>(target, Some(sampling))
+            self.draw_phong::<Exact, DepthTest, phong::Rows, T>(target, Some(sampling))
         } else {
-            self.draw_phong::<NoDepth, phong::Rows, T>(target, Some(sampling))
+            self.draw_phong::<Exact, NoDepth, phong::Rows, T>(target, Some(sampling))
         }
     }
 
     /// The quadratic path of [`Frame::draw_with`].
-    fn draw_quadratic<Z: DepthMode, Sh: Shading, T: Target<P>>(
+    fn draw_quadratic<D: Divide, Z: DepthMode, Sh: Shading, T: Target<P>>(
         &self,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
@@ -602,7 +604,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                                 mid(tri[a] as usize, tri[b] as usize, s[a].c, s[b].c)
                             });
                             st.drawn += 1;
-                            st.pixels += draw_quadratic::<P, T, Z>(target, s, m, Sh::FILL);
+                            st.pixels += draw_quadratic_div::<P, T, Z, D>(target, s, m, Sh::FILL);
                         }
                         Class::Clip => {
                             st.clipped += 1;
@@ -611,7 +613,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                                 pos: prep.clip.transform(&pos[tri[k] as usize]),
                                 c: s[k].c,
                             });
-                            self.draw_clipped::<Gradient, Z, Gouraud, T>(target, cv, cull, &mut st);
+                            self.draw_clipped::<WithDivide<Gradient, D>, Z, Gouraud, T>(
+                                target, cv, cull, &mut st,
+                            );
                         }
                     }
                 }
@@ -637,14 +641,14 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     /// the mesh (see [`Frame`]), every covered pixel lit with this frame's
     /// [`LightingSetup`]. Clipped triangles carry normal and position through the
     /// clipper as six attributes, so they are Phong-shaded too.
-    fn draw_phong<Z: DepthMode, F: PhongFill, T: Target<P>>(
+    fn draw_phong<D: Divide, Z: DepthMode, F: PhongFill, T: Target<P>>(
         &self,
         target: &mut T,
         sampling: Option<Sampling>,
     ) -> Result<Stats, RenderError> {
         // One Phong triangle: (pixels covered, lighting evaluations).
         let draw = |target: &mut T, v: [PhongVertex; 3], light: &LightingSetup<Sp>| match sampling {
-            None => (draw_phong::<P, T, Z, F, _>(target, v, light), 0),
+            None => (draw_phong_div::<P, T, Z, F, D, _>(target, v, light), 0),
             Some(sm) => draw_phong_sampled::<P, T, Z, _>(target, v, light, sm),
         };
         let view = self.scene.camera.view().ok_or(RenderError::BadView)?;

@@ -112,7 +112,9 @@ pub enum Kind {
     Shading,
     /// A divider in the `classic` span's per-span division (Gouraud).
     Divide,
-    /// A divider in the triangle setup's reciprocal (`gradient` span, Gouraud).
+    /// A divider in the triangle setup's reciprocal (`gradient` span; Gouraud, and
+    /// a few rows with Phong shading, whose setup interpolates normals and eye
+    /// positions through the same reciprocal).
     Setup,
     /// A specular model at one exponent (Phong shading, `gradient` span).
     Specular,
@@ -172,6 +174,9 @@ impl Config {
         match self.kind {
             Kind::Span => self.span.name().to_string(),
             Kind::Shading => self.shading.name().to_string(),
+            Kind::Setup if self.shading != ShadingName::Gouraud => {
+                format!("{} {}", self.shading.name(), self.divide.name())
+            }
             Kind::Divide | Kind::Setup => self.divide.name().to_string(),
             Kind::Specular => format!("{} n={}", self.specular.name(), self.shininess),
             Kind::Perspective if self.perspective == 0 => "off".to_string(),
@@ -221,6 +226,15 @@ pub const PERSPECTIVE_ROWS: [(u32, DivideName); 6] = [
 /// The exponents of the specular rows.
 pub const SHININESS: [u32; 5] = [8, 32, 128, 512, 1000];
 
+/// The dividers of the Phong setup rows (the first two in the quick report).
+const PHONG_SETUP_DIVIDERS: [DivideName; 5] = [
+    DivideName::Table,
+    DivideName::ShiftAdd(8),
+    DivideName::ShiftAdd(4),
+    DivideName::ShiftAdd(12),
+    DivideName::ShiftAdd(16),
+];
+
 /// The dividers of the quick report (every one in the full report).
 const QUICK_DIVIDERS: [DivideName; 6] = [
     DivideName::Table,
@@ -234,7 +248,9 @@ const QUICK_DIVIDERS: [DivideName; 6] = [
 /// The configurations of one figure, in report order: every span method with
 /// Gouraud, then every shading mode with the `gradient` span (Gouraud + gradient
 /// appears once, as a span row), then `classic` and `gradient` with every divider
-/// other than `exact` (their `exact` rows are the span rows), then the perspective
+/// other than `exact` (their `exact` rows are the span rows), then `gradient` with
+/// Phong shading and the dividers of `PHONG_SETUP_DIVIDERS` in its setup (its
+/// `exact` row is the shading row), then the perspective
 /// rows ([`PERSPECTIVE_ROWS`], against the perspective-correct reference), then, on the sphere
 /// only (`specular`), every specular model at every n of [`SHININESS`] with Phong
 /// shading. `quick` takes a few dividers and two exponents.
@@ -272,6 +288,17 @@ pub fn configurations(quick: bool, specular: bool) -> Vec<Config> {
                 ..Config::new(kind, span, ShadingName::Gouraud)
             });
         }
+    }
+    let phong: &[DivideName] = if quick {
+        &PHONG_SETUP_DIVIDERS[..2]
+    } else {
+        &PHONG_SETUP_DIVIDERS
+    };
+    for &d in phong {
+        v.push(Config {
+            divide: d,
+            ..Config::new(Kind::Setup, SpanName::Gradient, ShadingName::Phong)
+        });
     }
     for (px, d) in PERSPECTIVE_ROWS {
         v.push(Config {
@@ -967,23 +994,34 @@ fn summarize(rows: &[Row], figures: &[String]) -> String {
     }
 
     // Dividers: each against the exact row of its own sweep, same figure, same run.
-    for (kind, span, where_) in [
+    for (kind, span, shading, where_) in [
         (
             Kind::Divide,
             SpanName::Classic,
+            ShadingName::Gouraud,
             "the `classic` span's per-span division",
         ),
         (
             Kind::Setup,
             SpanName::Gradient,
+            ShadingName::Gouraud,
             "the triangle setup's reciprocal (`gradient` span)",
         ),
+        (
+            Kind::Setup,
+            SpanName::Gradient,
+            ShadingName::Phong,
+            "the Phong setup's reciprocal (normals, eye positions and depth)",
+        ),
     ] {
-        let exact = of(&|c: &Config| c.kind == Kind::Span && c.span == span);
+        // The exact row of the sweep: the span row (Gouraud) or the shading row.
+        let exact = of(&|c: &Config| {
+            matches!(c.kind, Kind::Span | Kind::Shading) && c.span == span && c.shading == shading
+        });
         let mut parts = Vec::new();
         let mut within = None;
         for &(d, name) in DivideName::ALL {
-            let rs = of(&|c: &Config| c.kind == kind && c.divide == d);
+            let rs = of(&|c: &Config| c.kind == kind && c.shading == shading && c.divide == d);
             if rs.is_empty() {
                 continue;
             }

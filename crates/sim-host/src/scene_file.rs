@@ -34,7 +34,7 @@
 //! | `shading` | string | `"gouraud"` | `flat`, `gouraud`, `quadratic`, `phong`, `phong-even-odd`, `adaptive`, `raycast` ([`ShadingName`]) |
 //! | `specular` | string | `"exact"` | `exact`, `schlick`, `schlick-mod`, `quadratic`, `cos-quad`, `cos-quad-energy` ([`SpecularName`]; the reference is always exact) |
 //! | `span` | string | `"gradient"` | `classic`, `gradient`, `even-odd`, `kway2`, `kway3`, `kway4`, `counter`, `segment2`, `segment4`, `segment8`, `segment16`, `segment32`, `segment64`, `sierpinski`, `sierpinski-exact` ([`SpanName`]) |
-//! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal and Schlick's denominator; `exact` keeps the full-precision divisions) |
+//! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal (of every shading: Gouraud, quadratic, Phong, adaptive), the perspective division and Schlick's denominator; `exact` keeps the full-precision divisions) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
 //! | `perspective_correct` | boolean | `false` | perspective-correct Gouraud colours (the fixed-point renderer and the reference; flat needs none, the quadratic surface and Phong interpolate affinely); see docs/effects.md |

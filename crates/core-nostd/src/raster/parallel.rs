@@ -17,6 +17,7 @@
 
 use super::setup::{Setup, ATTRS};
 use super::span::{pack_pixel, write_run, DepthMode, Span, SpanMethod};
+use crate::divide::Exact;
 use crate::shade::Shading;
 use crate::target::PixelFormat;
 
@@ -179,6 +180,7 @@ impl<const K: usize> SpanMethod for KWay<K> {
         _ => "kway",
     };
     const EDGE_VALUES: bool = false;
+    type Divider = Exact;
     type Tri = Lanes<K>;
     fn prepare(s: &Setup) -> Lanes<K> {
         lanes::<K>(s)
@@ -198,6 +200,7 @@ impl<const K: usize> SpanMethod for KWay<K> {
 impl SpanMethod for EvenOdd {
     const NAME: &'static str = "even-odd";
     const EDGE_VALUES: bool = false;
+    type Divider = Exact;
     type Tri = Lanes<2>;
     fn prepare(s: &Setup) -> Lanes<2> {
         lanes::<2>(s)
@@ -241,6 +244,7 @@ pub struct Counter;
 impl SpanMethod for Counter {
     const NAME: &'static str = "counter";
     const EDGE_VALUES: bool = false;
+    type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
     #[inline(always)]
@@ -405,6 +409,7 @@ impl<const P: usize> SpanMethod for Segment<P> {
         _ => "segment",
     };
     const EDGE_VALUES: bool = false;
+    type Divider = Exact;
     type Tri = SegmentLanes;
     fn prepare(s: &Setup) -> SegmentLanes {
         let mut off = [[0i32; MAX_SEGMENT]; ATTRS];

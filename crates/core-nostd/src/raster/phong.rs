@@ -43,9 +43,10 @@
 //! ```
 
 use super::edge::first_row;
-use super::setup::{setup_with_det, Det, Setup, ROUND_BIAS};
+use super::setup::{setup_with_det_div, Det, Setup, ROUND_BIAS};
 use super::span::{depth_of, DepthMode};
 use super::{row_range, scan, ScreenVertex};
+use crate::divide::{Divide, Exact};
 use crate::math::{normalize_fast_q30, ONE_Q30};
 use crate::sampler::{fill_row, PixelFn, Threshold};
 use crate::target::{to_channels, PixelFormat, Target};
@@ -289,7 +290,57 @@ where
     F: PhongFill,
     L: PixelLight,
 {
-    draw_phong_with::<P, T, Z, F, L>(target, v, light, None).0
+    draw_phong_with::<P, T, Z, F, Exact, L>(target, v, light, None).0
+}
+
+/// [`draw_phong`] with the setup's one reciprocal (of the determinant: it scales
+/// every increment, of depth, normal and position) taken through the divider `D`
+/// ([`crate::raster::setup::setup_div`]; [`draw_phong`] is `draw_phong_div` with
+/// [`Exact`]). An approximate `D` never over-estimates, so each interpolated
+/// attribute moves from its exact value towards the top vertex's by at most the
+/// reciprocal's relative error `η` ([`crate::divide::wide_recip`]) of its change
+/// across the triangle; coverage does not change.
+///
+/// ```
+/// use fixshade::divide::{Exact, ShiftAdd};
+/// use fixshade::raster::phong::{draw_phong, draw_phong_div, PhongVertex, PixelLight, Rows};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::target::{Framebuffer, Gray8};
+///
+/// /// Grey from the normal's z: a lit pixel shows the interpolated normal.
+/// struct Facing;
+/// impl PixelLight for Facing {
+///     fn light(&self, _p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+///         [n[2].max(0) >> 15; 3]
+///     }
+/// }
+/// fn draw(div: bool, shift: bool) -> [u8; 32 * 32] {
+///     let mut px = [0u8; 32 * 32];
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 32, 32).unwrap();
+///     let n = |z: i32| [0, 1 << 29, z];
+///     let v = |x: i32, y: i32, z: i32| PhongVertex { x: x * 16, y: y * 16, z: 0, n: n(z), p: [0; 3] };
+///     let t = [v(0, 0, 1 << 30), v(0, 32, 1 << 28), v(32, 0, 1 << 29)];
+///     match (div, shift) {
+///         (false, _) => draw_phong::<Gray8, _, NoDepth, Rows, _>(&mut fb, t, &Facing),
+///         (true, false) => draw_phong_div::<Gray8, _, NoDepth, Rows, Exact, _>(&mut fb, t, &Facing),
+///         (true, true) => draw_phong_div::<Gray8, _, NoDepth, Rows, ShiftAdd<12>, _>(&mut fb, t, &Facing),
+///     };
+///     px
+/// }
+/// assert_eq!(draw(true, false), draw(false, false)); // Exact: the same pixels
+/// let (e, a) = (draw(false, false), draw(true, true));
+/// assert!(e.iter().zip(&a).all(|(x, y)| x.abs_diff(*y) <= 4)); // 6-bit mantissa
+/// ```
+pub fn draw_phong_div<P, T, Z, F, D, L>(target: &mut T, v: [PhongVertex; 3], light: &L) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    F: PhongFill,
+    D: Divide,
+    L: PixelLight,
+{
+    draw_phong_with::<P, T, Z, F, D, L>(target, v, light, None).0
 }
 
 /// Sparse lighting of Phong spans: the pixel-segment sampler of seed 002 §2.6
@@ -361,12 +412,12 @@ where
     Z: DepthMode,
     L: PixelLight,
 {
-    draw_phong_with::<P, T, Z, Rows, L>(target, v, light, Some(sampling))
+    draw_phong_with::<P, T, Z, Rows, Exact, L>(target, v, light, Some(sampling))
 }
 
 /// The common body of [`draw_phong`] and [`draw_phong_sampled`]: (pixels covered,
 /// lighting evaluations; the latter only counted when sampling).
-fn draw_phong_with<P, T, Z, F, L>(
+fn draw_phong_with<P, T, Z, F, D, L>(
     target: &mut T,
     v: [PhongVertex; 3],
     light: &L,
@@ -377,13 +428,14 @@ where
     T: Target<P>,
     Z: DepthMode,
     F: PhongFill,
+    D: Divide,
     L: PixelLight,
 {
     if super::outside_guard(v.map(|p| (p.x, p.y))) {
         return (0, 0);
     }
     if Z::TEST && !target.has_depth() {
-        return draw_phong_with::<P, T, super::span::NoDepth, F, L>(target, v, light, sampling);
+        return draw_phong_with::<P, T, super::span::NoDepth, F, D, L>(target, v, light, sampling);
     }
     let sv = v.map(|p| ScreenVertex {
         x: p.x,
@@ -391,7 +443,7 @@ where
         z: p.z,
         c: [0; 3],
     });
-    let Some((s, det)) = setup_with_det(sv) else {
+    let Some((s, det)) = setup_with_det_div::<D>(sv) else {
         return (0, 0);
     };
     // The same order as `Setup::v` (equal keys only in zero-area triangles).

@@ -58,9 +58,10 @@
 use core::ops::Range;
 
 use super::edge::{first_row, EdgeStepper};
-use super::setup::{setup, Setup};
+use super::setup::{setup_div, Setup};
 use super::span::DepthMode;
 use super::ScreenVertex;
+use crate::divide::{wide_recip, Divide, Exact};
 use crate::target::{PixelFormat, Target};
 
 /// Fraction bits of the surface values, in channel units.
@@ -95,11 +96,17 @@ struct Recip {
 }
 
 impl Recip {
-    fn new(d: i128) -> Recip {
-        Recip {
-            inv: (1u128 << 127) / d.unsigned_abs(),
-            neg: d < 0,
-        }
+    /// Through `D`: [`Exact`] gives `⌊2¹²⁷ / |d|⌋`; any other variant
+    /// [`wide_recip`]'s under-estimate, within its relative error `η` (at most
+    /// `2¹²⁷/|d|` as well, so the bounds of [`Recip::div`] hold).
+    fn new<D: Divide>(d: i128) -> Recip {
+        let inv = if D::EXACT {
+            (1u128 << 127) / d.unsigned_abs()
+        } else {
+            // r ≤ 2^30 scaled to 2^127: below 2^127, and at least 1.
+            wide_recip::<D>(d.unsigned_abs()).scaled(127)
+        };
+        Recip { inv, neg: d < 0 }
     }
 
     /// `n / d` rounded to nearest, for |n| < 2⁹⁸. With `inv = 2¹²⁷/|d| − ε`
@@ -131,6 +138,31 @@ impl Quad {
     /// `mid[k]` of the edges `v[k] → v[(k + 1) % 3]` (Q.16 channel units, 0..=MAX).
     /// `None` for a zero-area triangle.
     pub fn fit(v: [ScreenVertex; 3], mid: [[i32; 3]; 3]) -> Option<Quad> {
+        Self::fit_div::<Exact>(v, mid)
+    }
+
+    /// [`Quad::fit`] with its two reciprocals (of `det` and `det²`) taken through
+    /// the divider `D` ([`Quad::fit`] is `fit_div::<Exact>`). An approximate `D`
+    /// never over-estimates: the parts of the coefficients over `det` shrink by at
+    /// most `D`'s relative error `η` ([`wide_recip`]), those over `det²` by at most
+    /// `η` of their own, so a pixel's value is off by at most `η` times the sum of
+    /// the magnitudes of its terms (the pixel clamps the colour to the channel
+    /// range, as for the exact fit's overshoot).
+    ///
+    /// ```
+    /// use fixshade::divide::{Exact, Table};
+    /// use fixshade::raster::quadratic::Quad;
+    /// use fixshade::raster::ScreenVertex;
+    /// let v = |x: i32, y: i32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [g << 16, 0, 0] };
+    /// let (t, m) = ([v(0, 0, 0), v(3, 40, 90), v(37, 5, 200)], [[160 << 16, 0, 0]; 3]);
+    /// assert_eq!(Quad::fit_div::<Exact>(t, m), Quad::fit(t, m));
+    /// // The 12-bit table: every surface value within 0.2 of a step of the exact one.
+    /// let (e, a) = (Quad::fit(t, m).unwrap(), Quad::fit_div::<Table>(t, m).unwrap());
+    /// for (x, y) in [(1, 1), (2, 30), (30, 4), (10, 10)] {
+    ///     assert!((e.at(x, y)[0] - a.at(x, y)[0]).abs() < (1 << 40) / 5);
+    /// }
+    /// ```
+    pub fn fit_div<D: Divide>(v: [ScreenVertex; 3], mid: [[i32; 3]; 3]) -> Option<Quad> {
         // Rotate (keeping the edge ↔ midpoint pairing) so vertex 0 is the top one,
         // the vertex the anchor pixel is taken from.
         let top = (0..3).min_by_key(|&k| (v[k].y, v[k].x)).unwrap_or(0);
@@ -151,11 +183,11 @@ impl Quad {
         let (a1, b1, c1) = (16 * dy2, -16 * dx2, ox * dy2 - oy * dx2);
         let (a2, b2, c2) = (-16 * dy1, 16 * dx1, oy * dx1 - ox * dy1);
         let det1 = det as i128;
-        let r1 = Recip::new(det1);
-        let r2 = Recip::new(det1 * det1); // det² < 2^70
-                                          // Channel-independent products (each below 2^46, so i64), per monomial
-                                          // i², j², ij, i, j, 1: the factors of q11, q22, q12 (over det²) and, for
-                                          // the linear monomials, of p1, p2 (over det).
+        let r1 = Recip::new::<D>(det1);
+        let r2 = Recip::new::<D>(det1 * det1); // det² < 2^70
+                                               // Channel-independent products (each below 2^46, so i64), per monomial
+                                               // i², j², ij, i, j, 1: the factors of q11, q22, q12 (over det²) and, for
+                                               // the linear monomials, of p1, p2 (over det).
         let m2: [[i64; 3]; 6] = [
             [a1 * a1, a2 * a2, a1 * a2],
             [b1 * b1, b2 * b2, b1 * b2],
@@ -566,10 +598,45 @@ pub fn draw_quadratic<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     mid: [[i32; 3]; 3],
     fill: Fill,
 ) -> u32 {
+    draw_quadratic_div::<P, T, Z, Exact>(target, v, mid, fill)
+}
+
+/// [`draw_quadratic`] with the setup's and the fit's reciprocals taken through the
+/// divider `D` ([`setup_div`], [`Quad::fit_div`]; [`draw_quadratic`] is
+/// `draw_quadratic_div` with [`Exact`]). Coverage does not depend on `D`.
+///
+/// ```
+/// use fixshade::divide::{Exact, ShiftAdd};
+/// use fixshade::raster::quadratic::{draw_quadratic, draw_quadratic_div, Fill};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::raster::ScreenVertex;
+/// use fixshade::target::{Framebuffer, Gray8};
+/// fn draw(approx: bool) -> [u8; 16 * 16] {
+///     let mut px = [0u8; 16 * 16];
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 16, 16).unwrap();
+///     let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [0; 3] };
+///     let (t, m) = ([v(0, 0), v(0, 16), v(16, 0)], [[255 << 16; 3]; 3]);
+///     if approx {
+///         draw_quadratic_div::<Gray8, _, NoDepth, ShiftAdd<8>>(&mut fb, t, m, Fill::Rows);
+///     } else {
+///         draw_quadratic::<Gray8, _, NoDepth>(&mut fb, t, m, Fill::Rows);
+///     }
+///     px
+/// }
+/// let (e, a) = (draw(false), draw(true));
+/// // The same pixels covered; the 4-bit-mantissa reciprocal only darkens.
+/// assert!(e.iter().zip(&a).all(|(x, y)| (*x == 0) == (*y == 0) && y <= x));
+/// ```
+pub fn draw_quadratic_div<P: PixelFormat, T: Target<P>, Z: DepthMode, D: Divide>(
+    target: &mut T,
+    v: [ScreenVertex; 3],
+    mid: [[i32; 3]; 3],
+    fill: Fill,
+) -> u32 {
     if super::outside_guard(v.map(|p| (p.x, p.y))) {
         return 0;
     }
-    let (Some(s), Some(q)) = (setup(v), Quad::fit(v, mid)) else {
+    let (Some(s), Some(q)) = (setup_div::<D>(v), Quad::fit_div::<D>(v, mid)) else {
         return 0;
     };
     draw_setup_quad::<P, T, Z>(target, &s, &q, fill)

@@ -180,12 +180,7 @@ pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
     setup_with_det_div::<D>(v).map(|(s, _)| s)
 }
 
-/// [`setup`], also returning its [`Det`] for further attribute planes.
-pub(crate) fn setup_with_det(v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
-    setup_with_det_div::<Exact>(v)
-}
-
-/// [`setup_div`], also returning its [`Det`].
+/// [`setup_div`], also returning its [`Det`] for further attribute planes.
 pub(crate) fn setup_with_det_div<D: Divide>(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
     // Sorted by (y, x) with three compare-exchanges. Two vertices with equal keys
     // coincide, so the triangle has zero area and is rejected whatever their order.

@@ -114,6 +114,7 @@ use super::edge::{first_row, EdgeStepper};
 use super::setup::{self, Setup, ATTRS};
 use super::span::{write_run, DepthMode, Gradient, NoDepth, Span, SpanMethod};
 use super::{draw_setup, ScreenVertex, GUARD};
+use crate::divide::Exact;
 use crate::shade::Shading;
 use crate::target::{PixelFormat, Target};
 
@@ -303,6 +304,7 @@ impl Sierpinski {
 impl SpanMethod for SierpinskiExact {
     const NAME: &'static str = "sierpinski-exact";
     const EDGE_VALUES: bool = false;
+    type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
     #[inline(always)]
@@ -327,6 +329,7 @@ impl SpanMethod for Sierpinski {
     const NAME: &'static str = "sierpinski";
     const EDGE_VALUES: bool = false;
     const SNAPS: bool = true;
+    type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
     fn snap(v: ScreenVertex) -> ScreenVertex {

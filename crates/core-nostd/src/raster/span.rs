@@ -141,6 +141,7 @@ impl DepthMode for NoDepth {
 /// impl SpanMethod for PerSpan {
 ///     const NAME: &'static str = "per-span";
 ///     const EDGE_VALUES: bool = false;
+///     type Divider = fixshade::divide::Exact;
 ///     type Tri = ();
 ///     fn prepare(_: &Setup) {}
 ///     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
@@ -176,11 +177,16 @@ pub trait SpanMethod {
     fn snap(v: ScreenVertex) -> ScreenVertex {
         v
     }
-    /// Sets up a triangle for this method: [`super::setup::setup`] by default;
-    /// [`WithDivide`] takes the determinant's reciprocal through its divider.
+    /// The divider of the triangle setup's one reciprocal (the determinant's, for
+    /// this method's setup and for the quadratic, Phong and adaptive fills a frame
+    /// draws with it): [`Exact`] for every method but [`WithDivide`], which names
+    /// its own.
+    type Divider: Divide;
+    /// Sets up a triangle for this method: [`super::setup::setup_div`] through
+    /// [`SpanMethod::Divider`] by default.
     #[inline(always)]
     fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
-        super::setup::setup(v)
+        super::setup::setup_div::<Self::Divider>(v)
     }
     /// Per-triangle data of the method (lane offsets, multiples of the increment).
     type Tri;
@@ -411,6 +417,7 @@ pub struct Gradient;
 impl SpanMethod for Gradient {
     const NAME: &'static str = "gradient";
     const EDGE_VALUES: bool = false;
+    type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
     #[inline(always)]
@@ -514,6 +521,7 @@ fn seam_weights<D: Divide>(dist: i128, width: i128, unit: i128) -> (i128, i128) 
 impl<D: Divide> SpanMethod for Classic<D> {
     const NAME: &'static str = "classic";
     const EDGE_VALUES: bool = true;
+    type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
@@ -556,8 +564,10 @@ impl<D: Divide> SpanMethod for Classic<D> {
 }
 
 /// The span method `S` with the triangle setup's reciprocal of the determinant
-/// taken through the divider `D` ([`super::setup::setup_div`]); everything else is
-/// `S`'s own. `WithDivide<S, Exact>` draws exactly what `S` draws.
+/// taken through the divider `D` ([`super::setup::setup_div`]; also in the
+/// quadratic, Phong and adaptive fills a frame draws with it, see
+/// [`SpanMethod::Divider`]); everything else is `S`'s own. `WithDivide<S, Exact>`
+/// draws exactly what `S` draws.
 ///
 /// With an approximate `D` every increment of the triangle is off by the
 /// reciprocal's relative error `η` ([`wide_recip`]), so a pixel's value is off by
@@ -596,10 +606,7 @@ impl<S: SpanMethod, D: Divide> SpanMethod for WithDivide<S, D> {
     fn snap(v: ScreenVertex) -> ScreenVertex {
         S::snap(v)
     }
-    #[inline(always)]
-    fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
-        super::setup::setup_div::<D>(v)
-    }
+    type Divider = D;
     type Tri = S::Tri;
     #[inline(always)]
     fn prepare(tri: &Setup) -> S::Tri {

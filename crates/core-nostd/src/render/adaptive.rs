@@ -13,11 +13,12 @@
 
 use super::{classify, eye_normal, project_clamped, Class, Frame, RenderError, Stats};
 use crate::clip::{clip_triangle, is_front, ClipVertex};
+use crate::divide::Divide;
 use crate::light::{LightingSetup, Specular};
 use crate::math::Affine3;
 use crate::raster::draw_triangle;
-use crate::raster::phong::{draw_phong, PhongVertex, Rows};
-use crate::raster::span::{DepthMode, Gradient};
+use crate::raster::phong::{draw_phong_div, PhongVertex, Rows};
+use crate::raster::span::{DepthMode, Gradient, WithDivide};
 use crate::shade::Gouraud;
 use crate::target::{PixelFormat, Target};
 
@@ -30,7 +31,7 @@ fn half_step<P: PixelFormat>() -> i64 {
 
 impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
     /// The adaptive path of [`Frame::draw_with`].
-    pub(super) fn draw_adaptive<Z: DepthMode, T: Target<P>>(
+    pub(super) fn draw_adaptive<D: Divide, Z: DepthMode, T: Target<P>>(
         &self,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
@@ -71,7 +72,8 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                     let spec = light.specular_bound(&n, &p);
                     if spec < limit && spec.saturating_add(light.diffuse_bound(&n, &p)) < limit {
                         let s = [t[0].s, t[1].s, t[2].s];
-                        st.pixels += draw_triangle::<P, T, Gradient, Z, Gouraud>(target, s);
+                        st.pixels +=
+                            draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(target, s);
                     } else {
                         st.per_pixel += 1;
                         let pv = core::array::from_fn(|k| {
@@ -84,7 +86,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                                 p: e[k].1,
                             }
                         });
-                        st.pixels += draw_phong::<P, T, Z, Rows, _>(target, pv, &light);
+                        st.pixels += draw_phong_div::<P, T, Z, Rows, D, _>(target, pv, &light);
                     }
                     continue;
                 }
@@ -121,7 +123,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                         continue;
                     }
                     st.drawn += 1;
-                    st.pixels += draw_phong::<P, T, Z, Rows, _>(target, tri, &light);
+                    st.pixels += draw_phong_div::<P, T, Z, Rows, D, _>(target, tri, &light);
                 }
             }
         }
