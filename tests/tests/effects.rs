@@ -131,8 +131,8 @@ fn adaptive_without_specular_is_gouraud() {
     assert_eq!(e.shading.value, ShadingName::Gouraud);
     assert!(e.shading.why.contains("adaptive without"));
     // The derived frame is the Gouraud frame of the same scene. (Adaptive as written
-    // still lights per pixel the triangles whose diffuse Gouraud error bound exceeds
-    // half a step; the rule trades that for the Gouraud cost.)
+    // still lights per pixel the triangles whose diffuse Gouraud error bound reaches
+    // its limit; the rule trades that for the Gouraud cost.)
     let mut gouraud = ls.clone();
     gouraud.desc.shading = ShadingName::Gouraud;
     let derived = pipeline::render(&effects::apply(&ls, &e), None).unwrap();

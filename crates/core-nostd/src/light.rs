@@ -516,12 +516,40 @@ impl<S: Specular> LightingSetup<S> {
     /// value at the least distance any point of the triangle can have (the nearest
     /// vertex's distance minus the longest edge).
     pub fn specular_bound(&self, n: &[[i32; 3]; 3], p: &[[i32; 3]; 3]) -> i64 {
-        if !S::ENABLED || !self.lights.iter().any(|l| l.has_spec) {
+        if !self.any_specular() {
             return 0;
         }
+        match Cone::around(n) {
+            Some(nc) => self.specular_in(&nc, p),
+            None => i64::MAX,
+        }
+    }
+
+    /// Whether some light adds a specular term.
+    fn any_specular(&self) -> bool {
+        S::ENABLED && self.lights.iter().any(|l| l.has_spec)
+    }
+
+    /// Whether both bounds of a triangle are below their limits (Q16.16):
+    /// [`LightingSetup::specular_bound`] below `spec_limit` and
+    /// [`LightingSetup::diffuse_bound`] below `diffuse_limit`, with the cone of
+    /// normals computed once for both. False where no finite bound is found.
+    pub(crate) fn within_bounds(
+        &self,
+        n: &[[i32; 3]; 3],
+        p: &[[i32; 3]; 3],
+        spec_limit: i64,
+        diffuse_limit: i64,
+    ) -> bool {
         let Some(nc) = Cone::around(n) else {
-            return i64::MAX;
+            return false;
         };
+        (!self.any_specular() || self.specular_in(&nc, p) < spec_limit)
+            && self.diffuse_in(&nc, p) < diffuse_limit
+    }
+
+    /// [`LightingSetup::specular_bound`] for the cone `nc` of the vertex normals.
+    fn specular_in(&self, nc: &Cone, p: &[[i32; 3]; 3]) -> i64 {
         let v_cone = if self.local_viewer {
             let mut v = [[0; 3]; 3];
             for (o, q) in v.iter_mut().zip(p.iter()) {
@@ -627,9 +655,14 @@ impl<S: Specular> LightingSetup<S> {
     /// attenuation at the nearest and farthest distance), and differ by at most the
     /// span between them.
     pub fn diffuse_bound(&self, n: &[[i32; 3]; 3], p: &[[i32; 3]; 3]) -> i64 {
-        let Some(nc) = Cone::around(n) else {
-            return i64::MAX;
-        };
+        match Cone::around(n) {
+            Some(nc) => self.diffuse_in(&nc, p),
+            None => i64::MAX,
+        }
+    }
+
+    /// [`LightingSetup::diffuse_bound`] for the cone `nc` of the vertex normals.
+    fn diffuse_in(&self, nc: &Cone, p: &[[i32; 3]; 3]) -> i64 {
         let one = ONE_Q30 as i64;
         let mut total: i64 = 0;
         for light in &self.lights {

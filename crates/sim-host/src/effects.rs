@@ -814,7 +814,8 @@ fn table_markdown(pairs: usize, runs: usize, quick: bool) -> Result<String, Stri
     let _ = writeln!(m, "| figure | NMSE vs fixed-point Phong | NMSE vs exact Phong reference | per-pixel polygons | time adaptive / Phong |");
     let _ = writeln!(m, "| --- | --- | --- | --- | --- |");
     for fig in ["sphere", "teapot", "robot"] {
-        let (vp, vr, x, y, ratio) = adaptive_row(fig, pairs, runs)?;
+        // Three times the pairs: the ratio is this table's acceptance figure.
+        let (vp, vr, x, y, ratio) = adaptive_row(fig, 3 * pairs, runs)?;
         let _ = writeln!(
             m,
             "| {fig} | {vp:.2e} | {vr:.2e} | {x} of {y} | {ratio:.2} |"
@@ -865,10 +866,14 @@ Adaptive shading bounds the specular term over each triangle \
 (`LightingSetup::specular_bound`: the vertex normals in a cone around their \
 normalised sum, the directions to a point light or a local viewer in cones around \
 theirs, `N·H ≤ (max N·L + max N·V) / sqrt(2 + 2 min L·V)`, the model's value at \
-that bound), adds a bound of how far Gouraud's ambient and diffuse light can be \
-from the per-pixel one (`LightingSetup::diffuse_bound`: the shorter interpolated \
-normal, a terminator crossing the triangle, a point light's varying direction and \
-attenuation), and lights a triangle per pixel only when the sum reaches half a step \
-of the target's finest channel; the other triangles take the Gouraud colours of the \
-vertex stage. Triangles that go through the clipper are always lit per pixel.
+that bound) and lights a triangle per pixel when it reaches half a step of the \
+target's finest channel, so no highlight is lost. It also bounds how far Gouraud's \
+ambient and diffuse light can be from the per-pixel one \
+(`LightingSetup::diffuse_bound`: the shorter interpolated normal, a terminator \
+crossing the triangle, a point light's varying direction and attenuation) and lights \
+per pixel where that bound reaches 8 steps (the bound is loose: with a limit of half \
+a step, the first design, most triangles paid and adaptive cost more than Phong on \
+the teapot and the robot; without it the teapot's NMSE against Phong was 1.4e-4). \
+The other triangles take the Gouraud colours of the vertex stage. Triangles that go \
+through the clipper are always lit per pixel.
 ";
