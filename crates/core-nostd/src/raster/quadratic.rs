@@ -669,7 +669,7 @@ mod tests {
             };
             let d = wide(&mut seed, bits_d).max(1) * if rng(&mut seed) % 2 == 0 { 1 } else { -1 };
             let n = wide(&mut seed, bits_n) * if rng(&mut seed) % 2 == 0 { 1 } else { -1 };
-            let got = Recip::new(d).div(n);
+            let got = Recip::new::<Exact>(d).div(n);
             // |got − n/d| ≤ ½ (+ 2^-29), i.e. |2·got·d − 2n| ≤ |d|(1 + 2^-28).
             let err = (2 * got * d - 2 * n).unsigned_abs();
             assert!(
