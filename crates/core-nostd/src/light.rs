@@ -674,7 +674,7 @@ impl<S: Specular> LightingSetup<S> {
                     if max_nl <= 0 {
                         continue;
                     }
-                    let min_nl = -Cone::point([-l[0], -l[1], -l[2]]).max_dot(&nc);
+                    let min_nl = -Cone::point([-l[0], -l[1], -l[2]]).max_dot(nc);
                     let f = if min_nl >= 0 {
                         // (1 − cos) in Q16.16, rounded up.
                         ((one - nc.cos) >> 14) + 1
@@ -714,7 +714,7 @@ impl<S: Specular> LightingSetup<S> {
                         axis: [-lc.axis[0], -lc.axis[1], -lc.axis[2]],
                         ..lc
                     };
-                    let min_nl = (-inv.max_dot(&nc)).max(0);
+                    let min_nl = (-inv.max_dot(nc)).max(0);
                     // Q16.16 · Q2.30 → Q16.16.
                     let hi = (att_max * max_nl) >> 30;
                     let lo = (att_min * min_nl) >> 30;
