@@ -177,6 +177,14 @@ fn exact_wrapper_draws_the_plain_method() {
     );
 }
 
+/// Sum of squared channel differences of two images.
+fn squared_error(a: &[[u8; 3]], b: &[[u8; 3]]) -> u64 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(x, y)| (0..3).map(move |k| (x[k] as i64 - y[k] as i64).pow(2) as u64))
+        .sum()
+}
+
 /// Through the host pipeline (the CLI's `--divide`): the figure keeps its coverage
 /// with every divider, `exact` is the default render, and the error shrinks as N
 /// grows.
@@ -193,13 +201,7 @@ fn pipeline_dividers_on_the_sphere() {
         let r = pipeline::render(&ls, None).unwrap();
         assert_eq!(r.image.covered, base.image.covered, "{name}: coverage");
         assert_eq!(r.stats, base.stats, "{name}: draw statistics");
-        let sq: u64 = r
-            .image
-            .pixels
-            .iter()
-            .zip(&base.image.pixels)
-            .flat_map(|(a, b)| (0..3).map(move |k| (a[k] as i64 - b[k] as i64).pow(2) as u64))
-            .sum();
+        let sq = squared_error(&r.image.pixels, &base.image.pixels);
         errs.push((name, sq));
     }
     let e = |n: &str| errs.iter().find(|x| x.0 == n).unwrap().1;
@@ -239,13 +241,7 @@ fn per_pixel_shadings_take_the_divider() {
                 "{shading:?} {name}: coverage"
             );
             assert_eq!(r.stats, base.stats, "{shading:?} {name}: draw statistics");
-            let sq: u64 = r
-                .image
-                .pixels
-                .iter()
-                .zip(&base.image.pixels)
-                .flat_map(|(a, b)| (0..3).map(move |k| (a[k] as i64 - b[k] as i64).pow(2) as u64))
-                .sum();
+            let sq = squared_error(&r.image.pixels, &base.image.pixels);
             errs.push((name, sq));
         }
         let e = |n: &str| errs.iter().find(|x| x.0 == n).unwrap().1;
