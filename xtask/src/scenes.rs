@@ -364,9 +364,13 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
         md.push_str(r);
         md.push('\n');
     }
+    // Several images of a board may name the same case.
+    let mut skipped = skipped.to_vec();
+    skipped.sort();
+    skipped.dedup();
     if !skipped.is_empty() {
         md.push_str("\nNot drawn:\n\n");
-        for s in skipped {
+        for s in &skipped {
             let f: Vec<&str> = s.split_whitespace().collect();
             if let [board, name, why] = f.as_slice() {
                 let why = match *why {
