@@ -569,6 +569,7 @@ pub fn qemu() -> Result<(), String> {
             scene_checked.rows.extend(c.rows);
             scene_checked.skipped.extend(c.skipped);
             scene_checked.drawn.extend(c.drawn);
+            scene_checked.seen.extend(c.seen);
             scene_checked.stack.extend(c.stack);
             scene_checked.layout_differs.extend(c.layout_differs);
             continue;

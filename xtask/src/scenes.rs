@@ -159,9 +159,10 @@ pub struct Checked {
     pub frames: usize,
     /// Mismatches, one line each.
     pub bad: Vec<String>,
-    /// Table rows: board, case, width, height, strip rows, chunk limit, frames,
-    /// gouraud/gradient pixels and instructions.
+    /// Markdown table rows, one per case of the image.
     pub rows: Vec<String>,
+    /// Frames compared: (board, case, shading, span).
+    pub seen: Vec<(String, String, String, String)>,
     /// Skipped cases: `board case why`.
     pub skipped: Vec<String>,
     /// Cases drawn: (board, case).
@@ -174,7 +175,7 @@ pub struct Checked {
 }
 
 /// Checks every `SCENE` frame of `log` against the host, deleting each frame's file
-/// once compared, and that every catalogue case was drawn or named as skipped.
+/// once compared.
 pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
     let mut loaded: HashMap<String, LoadedScene> = HashMap::new();
     for c in scene_cases() {
@@ -246,6 +247,12 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
         }
         let _ = std::fs::remove_file(&file);
         out.frames += 1;
+        out.seen.push((
+            r.board.clone(),
+            r.case.clone(),
+            r.shading.clone(),
+            r.span.clone(),
+        ));
         let grad = r.span == "gradient";
         match per_case.iter_mut().find(|p| p.0 == r.case) {
             Some(p) => {
@@ -299,7 +306,8 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
 }
 
 /// Checks that every board drew or named as skipped every catalogue case, over all
-/// its images, and returns the scene section of docs/mcu-instructions.md.
+/// its images, and drew every case it drew with every span method in flat and
+/// Gouraud shading; returns the scene section of docs/mcu-instructions.md.
 pub fn finish(c: &Checked) -> Result<String, String> {
     let cases = scene_cases();
     let mut boards: Vec<&str> = c.drawn.iter().map(|(b, _)| b.as_str()).collect();
@@ -311,6 +319,19 @@ pub fn finish(c: &Checked) -> Result<String, String> {
                 let f: Vec<&str> = s.split_whitespace().collect();
                 f.first() == Some(board) && f.get(1) == Some(&case.name.as_str())
             });
+            for shading in ["flat", "gouraud"] {
+                for (_, span) in SpanName::ALL {
+                    let have = c.seen.iter().any(|(b, n, sh, sp)| {
+                        b == board && *n == case.name && sh == shading && sp == span
+                    });
+                    if drawn && !have {
+                        return Err(format!(
+                            "{board}: scene case {}: no {shading} frame with {span}",
+                            case.name
+                        ));
+                    }
+                }
+            }
             if drawn == skipped {
                 return Err(format!(
                     "{board}: scene case {}: {}",
