@@ -107,6 +107,30 @@ impl SceneCase {
     }
 }
 
+impl SceneCase {
+    /// The case as the renderer takes it: its scene file loaded, and object 0's
+    /// mesh replaced by the explicit `positions`, `normals` and `triangles` when the
+    /// case gives them.
+    pub fn load(&self) -> Result<fixshade_sim::pipeline::LoadedScene, String> {
+        use fixshade_sim::convert::{quantize_mesh, FixedMesh};
+        use fixshade_sim::desc::MeshData;
+        use fixshade_sim::pipeline::{load, read_scene};
+        let path = path(&self.scene);
+        let (desc, dir) = read_scene(&path.display().to_string())?;
+        let mut ls = load(&self.name, &desc, &dir).map_err(|e| format!("{}: {e}", self.name))?;
+        if !self.positions.is_empty() {
+            let m = quantize_mesh(&MeshData {
+                positions: self.positions.clone(),
+                normals: self.normals.clone(),
+                triangles: self.triangles.clone(),
+            });
+            ls.fixed[0] = FixedMesh::from_mesh(&m).map_err(|e| format!("{}: {e}", self.name))?;
+            ls.meshes[0] = m;
+        }
+        Ok(ls)
+    }
+}
+
 /// The known `holds` words of scene cases.
 pub const SCENE_HOLDS: [&str; 6] = [
     "renders",

@@ -15,6 +15,7 @@
 
 pub mod catalogue;
 pub mod hard;
+pub mod scenes;
 
 use fixshade::raster::ScreenVertex;
 use fixshade::target::{PixelFormat, Target};

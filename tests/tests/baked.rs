@@ -87,3 +87,17 @@ fn bake_cli_writes_a_file_and_reports_its_size() {
     let e = fixshade_sim::cli::run(&["bake".to_string(), "robot".to_string()]).unwrap_err();
     assert_eq!(e.code, 2);
 }
+
+/// The whole-pipeline hard cases the QEMU firmware renders (`boards/baked/scenes/`,
+/// see `fixshade_tests::scenes`) are the catalogue's: baked again here, any
+/// difference (or a file left over from a removed case) fails.
+#[test]
+fn baked_scene_catalogue_is_current() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../boards/baked/scenes");
+    let stale = fixshade_tests::scenes::stale(&dir).unwrap();
+    assert!(
+        stale.is_empty(),
+        "stale baked scene cases (regenerate: cargo xtask bake-scenes):\n{}",
+        stale.join("\n")
+    );
+}

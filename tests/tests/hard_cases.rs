@@ -80,9 +80,8 @@ fn triangle_catalogue() {
 #[test]
 fn scene_catalogue() {
     use fixshade_sim::compare::compare;
-    use fixshade_sim::convert::{quantize_mesh, FixedMesh};
-    use fixshade_sim::desc::{MeshData, Named, ShadingName};
-    use fixshade_sim::pipeline::{load, read_scene, reference, render};
+    use fixshade_sim::desc::{Named, ShadingName};
+    use fixshade_sim::pipeline::{reference, render};
 
     let cases = catalogue::scene_cases();
     assert!(
@@ -99,18 +98,7 @@ fn scene_catalogue() {
                 sc.name
             );
         }
-        let path = catalogue::path(&sc.scene);
-        let (desc, dir) = read_scene(path.to_str().unwrap()).unwrap();
-        let mut ls = load(&sc.name, &desc, &dir).unwrap_or_else(|e| panic!("{}: {e}", sc.name));
-        if !sc.positions.is_empty() {
-            let m = quantize_mesh(&MeshData {
-                positions: sc.positions.clone(),
-                normals: sc.normals.clone(),
-                triangles: sc.triangles.clone(),
-            });
-            ls.fixed[0] = FixedMesh::from_mesh(&m).unwrap();
-            ls.meshes[0] = m;
-        }
+        let mut ls = sc.load().unwrap_or_else(|e| panic!("{e}"));
         let mut check = || -> Result<String, String> {
             let mut covered = 0;
             for (shading, _) in ShadingName::ALL {

@@ -6,6 +6,7 @@ use std::process::{Command, ExitCode};
 mod catalogue;
 mod qemu;
 mod raybake;
+mod scenes;
 
 /// The MCU targets the core must build for, with the feature sets to try.
 const NO_STD_TARGETS: [&str; 2] = ["thumbv6m-none-eabi", "thumbv7em-none-eabihf"];
@@ -96,7 +97,8 @@ fn fuzz_build() -> Result<(), String> {
 
 const USAGE: &str = "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, docs, qemu, fuzz builds)
        cargo xtask qemu    (firmware on QEMU Cortex-M0 and M4: frames compared with the host, instruction table)
-       cargo xtask bake-ray (writes boards/baked/ray/: the ray-cast scenes of the Cortex-M4 image)";
+       cargo xtask bake-ray (writes boards/baked/ray/: the ray-cast scenes of the Cortex-M4 image)
+       cargo xtask bake-scenes (writes boards/baked/scenes/: the whole-pipeline hard cases of the scene images)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -104,6 +106,7 @@ fn main() -> ExitCode {
         Some("test") => test(),
         Some("qemu") => qemu::qemu(),
         Some("bake-ray") => raybake::sync(&qemu::root(), true).map(|_| ()),
+        Some("bake-scenes") => scenes::bake(&qemu::root()),
         Some("help") | Some("--help") | None => {
             eprintln!("{USAGE}");
             return ExitCode::SUCCESS;

@@ -48,6 +48,9 @@ enum Kind {
     Catalogue,
     /// Ray-cast scenes (`RAY` lines; its binary alone is built).
     Ray,
+    /// The whole-pipeline hard cases (`SCENE` lines; its binary alone is built;
+    /// checked by `crate::scenes`).
+    Scenes,
 }
 
 const IMAGES: &[Image] = &[
@@ -77,6 +80,15 @@ const IMAGES: &[Image] = &[
         machine: "mps2-an386",
         cpu: "cortex-m4",
         kind: Kind::Ray,
+    },
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "scenes",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-mps2-scenes",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        kind: Kind::Scenes,
     },
     Image {
         krate: "qemu-microbit",
@@ -122,6 +134,43 @@ const IMAGES: &[Image] = &[
         machine: "microbit",
         cpu: "cortex-m0",
         kind: Kind::Catalogue,
+    },
+    // The scene cases: one shading mode and half of the meshes per image (flash).
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-flat",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-b",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-flat,scenes-b",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
     },
 ];
 
@@ -411,6 +460,7 @@ pub fn qemu() -> Result<(), String> {
             stale.join(", ")
         ));
     }
+    crate::scenes::check_baked(&root)?;
     let status = Command::new("rustup")
         .args([
             "target",
@@ -446,6 +496,7 @@ pub fn qemu() -> Result<(), String> {
     let (mut catalogue_frames, mut catalogue_rows, mut catalogue_skipped) =
         (0, Vec::new(), Vec::new());
     let (mut ray_frames, mut ray_rows) = (0, Vec::new());
+    let mut scene_checked = crate::scenes::Checked::default();
     for img in IMAGES {
         let dir = root.join("boards").join(img.krate);
         cargo_build(
@@ -503,6 +554,24 @@ pub fn qemu() -> Result<(), String> {
                 }
                 ray_rows.push(rest.to_string());
             }
+            continue;
+        }
+        if img.kind == Kind::Scenes {
+            let c = crate::scenes::check(&log, &out_dir)?;
+            eprintln!(
+                "xtask: {label}: {} scene frames compared, {} cases skipped",
+                c.frames,
+                c.skipped.len()
+            );
+            checked += c.frames;
+            scene_checked.frames += c.frames;
+            scene_checked.bad.extend(c.bad);
+            scene_checked.rows.extend(c.rows);
+            scene_checked.skipped.extend(c.skipped);
+            scene_checked.drawn.extend(c.drawn);
+            scene_checked.seen.extend(c.seen);
+            scene_checked.stack.extend(c.stack);
+            scene_checked.layout_differs.extend(c.layout_differs);
             continue;
         }
         if img.kind == Kind::Catalogue {
@@ -588,6 +657,8 @@ pub fn qemu() -> Result<(), String> {
         &catalogue_skipped,
     ));
     md.push_str(&ray_table(ray_frames, &ray_rows));
+    md.push_str(&crate::scenes::finish(&scene_checked)?);
+    mismatched.extend(scene_checked.bad);
     if !layout_differs.is_empty() {
         md.push_str(
             "\n## Strip and chunk renders that differ from the whole frame\n\n\

@@ -14,6 +14,8 @@
 
 #[cfg(feature = "catalogue")]
 pub mod catalogue;
+#[cfg(feature = "scenes")]
+pub mod scenes;
 
 use core::marker::PhantomData;
 use core::sync::atomic::{AtomicU32, Ordering};

@@ -262,18 +262,31 @@ fn input(arg: &str) -> Result<Input, String> {
 /// Bakes `arg` (built-in scene, scene file or OBJ); `command` is the command line
 /// written into the file's header.
 pub fn bake(arg: &str, chunk: Option<usize>, command: &str) -> Result<Baked, String> {
-    let (desc, fixed): (Option<SceneDesc>, Vec<FixedMesh>) = match input(arg)? {
+    match input(arg)? {
         Input::Scene(d, dir) => {
             let ls = pipeline::load(arg, &d, &dir)?;
-            (Some(ls.desc), ls.fixed)
+            bake_loaded(arg, Some(&ls.desc), &ls.fixed, chunk, command)
         }
         Input::Obj(p) => {
             let m = mesh::build(&MeshSource::Obj { path: p }, Path::new(""))
                 .map_err(|e| e.to_string())?;
             let q = crate::convert::quantize_mesh(&m);
-            (None, vec![FixedMesh::from_mesh(&q)?])
+            bake_loaded(arg, None, &[FixedMesh::from_mesh(&q)?], chunk, command)
         }
-    };
+    }
+}
+
+/// Bakes meshes already in the core's formats, with the scene `desc` that places
+/// them (`None`: the meshes alone); `arg` names the source in the file's header.
+/// What [`bake`] does after loading its input, for scenes built in code (the
+/// hard-case catalogue replaces meshes of its scene files).
+pub fn bake_loaded(
+    arg: &str,
+    desc: Option<&SceneDesc>,
+    fixed: &[FixedMesh],
+    chunk: Option<usize>,
+    command: &str,
+) -> Result<Baked, String> {
     let mut f = String::new();
     let _ = writeln!(
         f,
@@ -356,8 +369,8 @@ pub fn bake(arg: &str, chunk: Option<usize>, command: &str) -> Result<Baked, Str
          /// The chunks' vertex limit (`--chunk`; 0: one chunk per mesh).\npub const CHUNK_LIMIT: usize = {};\n",
         chunk.unwrap_or(0)
     );
-    if let Some(d) = &desc {
-        let s = core_scene(d, &fixed)?;
+    if let Some(d) = desc {
+        let s = core_scene(d, fixed)?;
         let bg = background_channels(d.format, d.background);
         let _ = writeln!(
             f,
