@@ -18,8 +18,13 @@
 //!   order, so the frame has the host's bytes; the vertex stage is simply repeated
 //!   (its instructions are in the `prepare` column).
 //!
+//! With the feature `dividers` the image draws `classic` and `gradient` with the
+//! dividers that fit the flash next to a figure instead (`boards/common`'s
+//! `quick_divider_cases`; frames `<figure>-<span>@<divider>`).
+//!
 //! Run: `cargo run --release --no-default-features --features teapot` in this
-//! directory (default: sphere); frame files land in the current directory.
+//! directory (default: sphere; `--features sphere,dividers` for the dividers); frame
+//! files land in the current directory.
 #![no_std]
 #![no_main]
 
@@ -33,7 +38,9 @@ use fixshade::scene::Scene;
 use fixshade::scene::ShadingMode;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
-use fixshade_boards_common::{cases, Counter, DrawFn, Fixed, FrameLog};
+#[cfg(not(feature = "dividers"))]
+use fixshade_boards_common::cases;
+use fixshade_boards_common::{Counter, DrawFn, Fixed, FrameLog};
 use semihosting::io::Write as _;
 
 #[cfg(feature = "sphere")]
@@ -215,7 +222,15 @@ fn run() -> Result<(), &'static str> {
     if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
         return Err("this image draws Gouraud with the depth test only");
     }
-    for (case, draw) in cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Strip<'_, Rgb565Le>>() {
+    #[cfg(not(feature = "dividers"))]
+    let table = cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers")]
+    let table = fixshade_boards_common::quick_divider_cases::<
+        Fixed<DepthTest, Gouraud>,
+        Rgb565Le,
+        Strip<'_, Rgb565Le>,
+    >();
+    for (case, draw) in table {
         let log = frame(
             case,
             draw,
