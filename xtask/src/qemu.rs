@@ -18,8 +18,9 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use fixshade_sim::bake::render_chunked;
-use fixshade_sim::desc::{Named, SpanName};
 use fixshade_sim::pipeline::{self, LoadedScene};
+
+mod dividers;
 
 /// One firmware image: the board crate, cargo features, the QEMU machine.
 struct Image {
@@ -108,6 +109,42 @@ const IMAGES: &[Image] = &[
     Image {
         krate: "qemu-microbit",
         features: "bench-sphere",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Figures,
+    },
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "dividers",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-qemu-mps2-an386",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        kind: Kind::Figures,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "sphere,dividers",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Figures,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "teapot,dividers",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Figures,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "robot,dividers",
         target: "thumbv6m-none-eabi",
         bin: "fixshade-qemu-microbit",
         machine: "microbit",
@@ -354,7 +391,8 @@ fn run_qemu(img: &Image, elf: &Path, out_dir: &Path) -> Result<String, String> {
     }
 }
 
-/// The host render of `figure` at `w`×`h` with span method `case`: its bytes. With
+/// The host render of `figure` at `w`×`h` with span method `case` (`span@divider`
+/// for the divider images): its bytes. With
 /// `cut = Some((rows, chunk))` rendered strip by strip and chunk by chunk as the
 /// small-RAM firmware does.
 fn host_frame(
@@ -371,7 +409,7 @@ fn host_frame(
     let mut ls = scenes[figure].clone();
     ls.desc.width = w;
     ls.desc.height = h;
-    ls.desc.span = SpanName::parse(case)?;
+    dividers::apply(&mut ls.desc, case)?;
     match cut {
         None => Ok(pipeline::render(&ls, None)?.bytes),
         Some((rows, chunk)) => render_chunked(&ls, chunk, rows),
@@ -682,7 +720,7 @@ fn tables(
 ) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
-        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel\n",
+        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep\n",
     );
     md.push_str(
         "# Instructions on Cortex-M0 and Cortex-M4 (QEMU, `-icount shift=10`)\n\n\
@@ -725,6 +763,27 @@ fn tables(
     }
     let mut key = None;
     for r in rows {
+        let (method, divide, sweep) = dividers::csv_names(&r.case);
+        let _ = writeln!(
+            csv,
+            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep}",
+            r.board,
+            r.figure,
+            r.width,
+            r.height,
+            r.triangles,
+            r.drawn,
+            r.pixels,
+            r.prepare,
+            r.draw,
+            r.total(),
+            fmt_per(r.total(), r.pixels),
+            fmt_per(r.total(), r.triangles),
+            fmt_per(r.draw, r.pixels)
+        );
+        if sweep != "span" {
+            continue; // in the dividers section
+        }
         let k = (r.board.clone(), r.figure.clone(), r.width, r.height);
         if key.as_ref() != Some(&k) {
             let _ = writeln!(
@@ -749,25 +808,8 @@ fn tables(
             fmt_per(r.total(), r.triangles),
             fmt_per(r.draw, r.pixels)
         );
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.board,
-            r.figure,
-            r.case,
-            r.width,
-            r.height,
-            r.triangles,
-            r.drawn,
-            r.pixels,
-            r.prepare,
-            r.draw,
-            r.total(),
-            fmt_per(r.total(), r.pixels),
-            fmt_per(r.total(), r.triangles),
-            fmt_per(r.draw, r.pixels)
-        );
     }
+    md.push_str(&dividers::section(rows));
     if !calibration.is_empty() {
         md.push_str("\n## Counter calibration\n\n`CALIBRATE board empty measured expected`: the counter around nothing, and around a loop of\nexactly `expected` instructions. `STACK board bytes`: peak stack (painted RAM).\n\n```text\n");
         for l in calibration {

@@ -1,0 +1,126 @@
+//! The divider sweep of `cargo xtask qemu`. The images built with the feature
+//! `dividers` draw `classic` and `gradient` with the dividers of the `Divide` seam
+//! (boards/common: `divider_cases`, all 28 on the Cortex-M4; `quick_divider_cases`,
+//! the quick report's six and `exact`, on the Cortex-M0, whose flash holds no more
+//! next to a figure's mesh). Their frames are named `span@divider`; the host renders
+//! them with that span method and divider (`fixshade render --divide`), as
+//! `WithDivide<Classic<D>, D>` and `WithDivide<Gradient, D>`.
+//!
+//! Each image also draws the `exact` pair, so every divider is compared with
+//! `exact` compiled into the same image (the span-method images inline the
+//! pipeline differently, a few per cent apart).
+
+use std::fmt::Write as _;
+
+use fixshade_sim::desc::{DivideName, Named, SceneDesc, SpanName};
+
+use super::{fmt_per, FrameRow};
+
+/// `span@divider` → `(span, divider)`; `None` for a case of the span-method images.
+pub(super) fn split(case: &str) -> Option<(&str, &str)> {
+    case.split_once('@')
+}
+
+/// Sets the host scene's span method and divider from a case name.
+pub(super) fn apply(desc: &mut SceneDesc, case: &str) -> Result<(), String> {
+    match split(case) {
+        Some((span, divider)) => {
+            desc.span = SpanName::parse(span)?;
+            desc.divide = DivideName::parse(divider)?;
+        }
+        None => {
+            desc.span = SpanName::parse(case)?;
+            desc.divide = DivideName::Exact;
+        }
+    }
+    Ok(())
+}
+
+/// The CSV's `method`, `divide` and `sweep` of a case: `sweep` is `span` for the
+/// span-method images, `divide` for the divider images (whose `exact` rows are that
+/// image's own reference).
+pub(super) fn csv_names(case: &str) -> (&str, &str, &str) {
+    match split(case) {
+        Some((span, divider)) => (span, divider, "divide"),
+        None => (case, "exact", "span"),
+    }
+}
+
+/// The markdown section: per board and figure, every divider against the same
+/// image's `exact`.
+pub(super) fn section(rows: &[FrameRow]) -> String {
+    let div: Vec<&FrameRow> = rows.iter().filter(|r| split(&r.case).is_some()).collect();
+    if div.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from(
+        "\n## Dividers\n\n\
+         `classic` (the divider in its per-span division and in the setup's reciprocal)\n\
+         and `gradient` (the divider in the setup's reciprocal) with each divider of the\n\
+         `Divide` seam, drawn as `fixshade render --divide NAME` draws them and compared\n\
+         byte for byte with that host render (on the Cortex-M0, rendering the same strips\n\
+         and mesh chunks). The Cortex-M4 image draws every divider on sphere, teapot and\n\
+         robot; the Cortex-M0 images (one per figure) draw the quick report's dividers\n\
+         only (`table`, `shift-add-4/8/12/16`, `shift-add-rounded-8`): the other 21 do not\n\
+         fit its 256 KiB of flash next to a mesh, and stay `not measured`. Each image\n\
+         draws the `exact` pair too, and every ratio is to that `exact`, compiled into the\n\
+         same image. Per pixel and per triangle are the whole frame (vertex stage and\n\
+         draw) as above; `draw ×` compares the rasterizer alone (the vertex stage does not\n\
+         divide), which on the Cortex-M0 is a small part of the frame.\n",
+    );
+    let mut keys: Vec<(&str, &str)> = Vec::new();
+    for r in &div {
+        if !keys.contains(&(r.board.as_str(), r.figure.as_str())) {
+            keys.push((&r.board, &r.figure));
+        }
+    }
+    for (board, figure) in keys {
+        let here: Vec<&&FrameRow> = div
+            .iter()
+            .filter(|r| r.board == board && r.figure == figure)
+            .collect();
+        let find = |span: &str, d: &str| {
+            here.iter()
+                .find(|r| split(&r.case) == Some((span, d)))
+                .copied()
+        };
+        let mut dividers: Vec<&str> = Vec::new();
+        for r in &here {
+            if let Some((_, d)) = split(&r.case) {
+                if !dividers.contains(&d) {
+                    dividers.push(d);
+                }
+            }
+        }
+        let _ = writeln!(
+            md,
+            "\n### {board} — {figure} ({} triangles, {} covered pixels)\n\n\
+             | divider | classic per pixel | classic per triangle | classic draw × exact | gradient per pixel | gradient per triangle | gradient draw × exact |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: |",
+            here[0].triangles, here[0].pixels
+        );
+        for d in dividers {
+            let mut cells = Vec::new();
+            for span in ["classic", "gradient"] {
+                match (find(span, d), find(span, "exact")) {
+                    (Some(r), e) => {
+                        cells.push(fmt_per(r.total(), r.pixels));
+                        cells.push(fmt_per(r.total(), r.triangles));
+                        cells.push(e.map_or("-".into(), |e| ratio(r.draw, e.draw)));
+                    }
+                    (None, _) => cells.extend(["-".to_string(), "-".into(), "-".into()]),
+                }
+            }
+            let _ = writeln!(md, "| {d} | {} |", cells.join(" | "));
+        }
+    }
+    md
+}
+
+fn ratio(a: u64, b: u64) -> String {
+    if b == 0 {
+        "-".into()
+    } else {
+        format!("{:.3}", a as f64 / b as f64)
+    }
+}
