@@ -349,6 +349,61 @@ pub fn quick_divider_cases<M: Mode, P: PixelFormat, T: Target<P>>(
     )
 }
 
+/// The dividers [`quick_divider_cases`] leaves out, in four parts of the same size
+/// or less, each with `exact` (the image's reference): with the quick part, the
+/// whole of [`divider_cases`] in five small images.
+pub fn more_divider_cases_1<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAdd<5> => "shift-add-5",
+        ShiftAdd<6> => "shift-add-6",
+        ShiftAdd<7> => "shift-add-7",
+        ShiftAdd<9> => "shift-add-9",
+        ShiftAdd<10> => "shift-add-10",
+        ShiftAdd<11> => "shift-add-11",
+    )
+}
+
+/// See [`more_divider_cases_1`].
+pub fn more_divider_cases_2<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAdd<13> => "shift-add-13",
+        ShiftAdd<14> => "shift-add-14",
+        ShiftAdd<15> => "shift-add-15",
+        ShiftAddRounded<4> => "shift-add-rounded-4",
+        ShiftAddRounded<5> => "shift-add-rounded-5",
+        ShiftAddRounded<6> => "shift-add-rounded-6",
+    )
+}
+
+/// See [`more_divider_cases_1`].
+pub fn more_divider_cases_3<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAddRounded<7> => "shift-add-rounded-7",
+        ShiftAddRounded<9> => "shift-add-rounded-9",
+        ShiftAddRounded<10> => "shift-add-rounded-10",
+        ShiftAddRounded<11> => "shift-add-rounded-11",
+        ShiftAddRounded<12> => "shift-add-rounded-12",
+        ShiftAddRounded<13> => "shift-add-rounded-13",
+    )
+}
+
+/// See [`more_divider_cases_1`].
+pub fn more_divider_cases_4<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); 8] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAddRounded<14> => "shift-add-rounded-14",
+        ShiftAddRounded<15> => "shift-add-rounded-15",
+        ShiftAddRounded<16> => "shift-add-rounded-16",
+    )
+}
+
 /// The measurements of one frame, as the `FRAME` log line carries them.
 #[derive(Copy, Clone, Debug, Default)]
 pub struct FrameLog {

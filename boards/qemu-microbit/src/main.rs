@@ -19,8 +19,9 @@
 //!   (its instructions are in the `prepare` column).
 //!
 //! With the feature `dividers` the image draws `classic` and `gradient` with the
-//! dividers that fit the flash next to a figure instead (`boards/common`'s
-//! `quick_divider_cases`; frames `<figure>-<span>@<divider>`).
+//! quick report's dividers instead (`boards/common`'s `quick_divider_cases`; frames
+//! `<figure>-<span>@<divider>`), with `dividers1` to `dividers4` the other dividers
+//! (`more_divider_cases_1` to `_4`): all of them do not fit the flash at once.
 //!
 //! Run: `cargo run --release --no-default-features --features teapot` in this
 //! directory (default: sphere; `--features sphere,dividers` for the dividers); frame
@@ -38,7 +39,13 @@ use fixshade::scene::Scene;
 use fixshade::scene::ShadingMode;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
-#[cfg(not(feature = "dividers"))]
+#[cfg(not(any(
+    feature = "dividers",
+    feature = "dividers1",
+    feature = "dividers2",
+    feature = "dividers3",
+    feature = "dividers4"
+)))]
 use fixshade_boards_common::cases;
 use fixshade_boards_common::{Counter, DrawFn, Fixed, FrameLog};
 use semihosting::io::Write as _;
@@ -222,14 +229,30 @@ fn run() -> Result<(), &'static str> {
     if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
         return Err("this image draws Gouraud with the depth test only");
     }
-    #[cfg(not(feature = "dividers"))]
-    let table = cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Strip<'_, Rgb565Le>>();
+    type Case = Fixed<DepthTest, Gouraud>;
+    #[cfg(not(any(
+        feature = "dividers",
+        feature = "dividers1",
+        feature = "dividers2",
+        feature = "dividers3",
+        feature = "dividers4"
+    )))]
+    let table = cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
     #[cfg(feature = "dividers")]
-    let table = fixshade_boards_common::quick_divider_cases::<
-        Fixed<DepthTest, Gouraud>,
-        Rgb565Le,
-        Strip<'_, Rgb565Le>,
-    >();
+    let table =
+        fixshade_boards_common::quick_divider_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers1")]
+    let table =
+        fixshade_boards_common::more_divider_cases_1::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers2")]
+    let table =
+        fixshade_boards_common::more_divider_cases_2::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers3")]
+    let table =
+        fixshade_boards_common::more_divider_cases_3::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers4")]
+    let table =
+        fixshade_boards_common::more_divider_cases_4::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
     for (case, draw) in table {
         let log = frame(
             case,

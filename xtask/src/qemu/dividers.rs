@@ -1,8 +1,9 @@
 //! The divider sweep of `cargo xtask qemu`. The images built with the feature
 //! `dividers` draw `classic` and `gradient` with the dividers of the `Divide` seam
-//! (boards/common: `divider_cases`, all 28 on the Cortex-M4; `quick_divider_cases`,
-//! the quick report's six and `exact`, on the Cortex-M0, whose flash holds no more
-//! next to a figure's mesh). Their frames are named `span@divider`; the host renders
+//! (boards/common: `divider_cases`, all 28 on the Cortex-M4; on the Cortex-M0, whose
+//! flash holds seven dividers next to a figure's mesh, `quick_divider_cases`, the
+//! quick report's six and `exact`, for every figure, and `more_divider_cases_1` to
+//! `_4`, the other 21 and `exact`, for the sphere). Their frames are named `span@divider`; the host renders
 //! them with that span method and divider (`fixshade render --divide`), as
 //! `WithDivide<Classic<D>, D>` and `WithDivide<Gradient, D>`.
 //!
@@ -60,13 +61,15 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
          `Divide` seam, drawn as `fixshade render --divide NAME` draws them and compared\n\
          byte for byte with that host render (on the Cortex-M0, rendering the same strips\n\
          and mesh chunks). The Cortex-M4 image draws every divider on sphere, teapot and\n\
-         robot; the Cortex-M0 images (one per figure) draw the quick report's dividers\n\
-         only (`table`, `shift-add-4/8/12/16`, `shift-add-rounded-8`): the other 21 do not\n\
-         fit its 256 KiB of flash next to a mesh, and stay `not measured`. Each image\n\
+         robot. The Cortex-M0's 256 KiB of flash hold seven dividers next to a mesh: its\n\
+         images draw the sphere with every divider (five images) and teapot and robot with\n\
+         the quick report's dividers only (`table`, `shift-add-4/8/12/16`,\n\
+         `shift-add-rounded-8`; the other 21 stay `not measured` there). Each image\n\
          draws the `exact` pair too, and every ratio is to that `exact`, compiled into the\n\
-         same image. Per pixel and per triangle are the whole frame (vertex stage and\n\
-         draw) as above; `draw ×` compares the rasterizer alone (the vertex stage does not\n\
-         divide), which on the Cortex-M0 is a small part of the frame.\n",
+         same image (the `exact` row shows the first image's). Per pixel and per\n\
+         triangle are the whole frame (vertex stage and draw) as above; `draw ×` compares\n\
+         the rasterizer alone (the vertex stage does not divide), which on the Cortex-M0\n\
+         is a small part of the frame.\n",
     );
     let mut keys: Vec<(&str, &str)> = Vec::new();
     for r in &div {
@@ -84,6 +87,16 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
                 .find(|r| split(&r.case) == Some((span, d)))
                 .copied()
         };
+        // The `exact` frame drawn last up to `r` in the log (each image draws its
+        // `exact` pair first; the M0 sphere takes five images).
+        let exact_for = |r: &FrameRow, span: &str| {
+            let i = here.iter().position(|x| std::ptr::eq(**x, r))?;
+            here[..=i]
+                .iter()
+                .rev()
+                .find(|x| split(&x.case) == Some((span, "exact")))
+                .copied()
+        };
         let mut dividers: Vec<&str> = Vec::new();
         for r in &here {
             if let Some((_, d)) = split(&r.case) {
@@ -99,16 +112,25 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
              | --- | ---: | ---: | ---: | ---: | ---: | ---: |",
             here[0].triangles, here[0].pixels
         );
+        // In the host's order (`fixshade list`).
+        let order = |d: &&str| {
+            DivideName::ALL
+                .iter()
+                .position(|(_, n)| n == d)
+                .unwrap_or(usize::MAX)
+        };
+        dividers.sort_by_key(order);
         for d in dividers {
             let mut cells = Vec::new();
             for span in ["classic", "gradient"] {
-                match (find(span, d), find(span, "exact")) {
-                    (Some(r), e) => {
+                match find(span, d) {
+                    Some(r) => {
+                        let e = exact_for(r, span);
                         cells.push(fmt_per(r.total(), r.pixels));
                         cells.push(fmt_per(r.total(), r.triangles));
                         cells.push(e.map_or("-".into(), |e| ratio(r.draw, e.draw)));
                     }
-                    (None, _) => cells.extend(["-".to_string(), "-".into(), "-".into()]),
+                    None => cells.extend(["-".to_string(), "-".into(), "-".into()]),
                 }
             }
             let _ = writeln!(md, "| {d} | {} |", cells.join(" | "));
