@@ -116,78 +116,6 @@ const IMAGES: &[Image] = &[
         kind: Kind::Figures,
     },
     Image {
-        krate: "qemu-mps2-an386",
-        features: "dividers",
-        target: "thumbv7em-none-eabihf",
-        bin: "fixshade-qemu-mps2-an386",
-        machine: "mps2-an386",
-        cpu: "cortex-m4",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "sphere,dividers",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "teapot,dividers",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "robot,dividers",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "sphere,dividers1",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "sphere,dividers2",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "sphere,dividers3",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
-        krate: "qemu-microbit",
-        features: "sphere,dividers4",
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    },
-    Image {
         krate: "qemu-microbit",
         features: "catalogue",
         target: "thumbv6m-none-eabi",
@@ -520,7 +448,7 @@ pub fn qemu() -> Result<(), String> {
     let (mut catalogue_frames, mut catalogue_rows, mut catalogue_skipped) =
         (0, Vec::new(), Vec::new());
     let (mut ray_frames, mut ray_rows) = (0, Vec::new());
-    for img in IMAGES {
+    for img in IMAGES.iter().chain(dividers::IMAGES) {
         let dir = root.join("boards").join(img.krate);
         cargo_build(
             &dir,

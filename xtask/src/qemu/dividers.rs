@@ -15,7 +15,41 @@ use std::fmt::Write as _;
 
 use fixshade_sim::desc::{DivideName, Named, SceneDesc, SpanName};
 
-use super::{fmt_per, FrameRow};
+use super::{fmt_per, FrameRow, Image, Kind};
+
+/// The divider images, run after the others: the Cortex-M4 one, then the
+/// Cortex-M0's quick part for each figure and the four other parts for the sphere.
+pub(super) const IMAGES: &[Image] = &[
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "dividers",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-qemu-mps2-an386",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        kind: Kind::Figures,
+    },
+    m0("sphere,dividers"),
+    m0("teapot,dividers"),
+    m0("robot,dividers"),
+    m0("sphere,dividers1"),
+    m0("sphere,dividers2"),
+    m0("sphere,dividers3"),
+    m0("sphere,dividers4"),
+];
+
+/// A Cortex-M0 (micro:bit) image with these features.
+const fn m0(features: &'static str) -> Image {
+    Image {
+        krate: "qemu-microbit",
+        features,
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Figures,
+    }
+}
 
 /// `span@divider` → `(span, divider)`; `None` for a case of the span-method images.
 pub(super) fn split(case: &str) -> Option<(&str, &str)> {
