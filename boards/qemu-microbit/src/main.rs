@@ -21,7 +21,7 @@
 //! With the feature `dividers` the image draws `classic` and `gradient` with the
 //! quick report's dividers instead (`boards/common`'s `quick_divider_cases`; frames
 //! `<figure>-<span>@<divider>`), with `dividers1` to `dividers4` the other dividers
-//! (`more_divider_cases_1` to `_4`): all of them do not fit the flash at once.
+//! (`more_divider_cases_1` to `_4`): the flash does not hold all of them at once.
 //!
 //! Run: `cargo run --release --no-default-features --features teapot` in this
 //! directory (default: sphere; `--features sphere,dividers` for the dividers); frame
