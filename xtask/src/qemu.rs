@@ -18,8 +18,9 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use fixshade_sim::bake::render_chunked;
-use fixshade_sim::desc::{Named, SpanName};
 use fixshade_sim::pipeline::{self, LoadedScene};
+
+mod dividers;
 
 /// One firmware image: the board crate, cargo features, the QEMU machine.
 struct Image {
@@ -403,7 +404,8 @@ fn run_qemu(img: &Image, elf: &Path, out_dir: &Path) -> Result<String, String> {
     }
 }
 
-/// The host render of `figure` at `w`×`h` with span method `case`: its bytes. With
+/// The host render of `figure` at `w`×`h` with span method `case` (`span@divider`
+/// for the divider images): its bytes. With
 /// `cut = Some((rows, chunk))` rendered strip by strip and chunk by chunk as the
 /// small-RAM firmware does.
 fn host_frame(
@@ -420,7 +422,7 @@ fn host_frame(
     let mut ls = scenes[figure].clone();
     ls.desc.width = w;
     ls.desc.height = h;
-    ls.desc.span = SpanName::parse(case)?;
+    dividers::apply(&mut ls.desc, case)?;
     match cut {
         None => Ok(pipeline::render(&ls, None)?.bytes),
         Some((rows, chunk)) => render_chunked(&ls, chunk, rows),
@@ -497,7 +499,7 @@ pub fn qemu() -> Result<(), String> {
         (0, Vec::new(), Vec::new());
     let (mut ray_frames, mut ray_rows) = (0, Vec::new());
     let mut scene_checked = crate::scenes::Checked::default();
-    for img in IMAGES {
+    for img in IMAGES.iter().chain(dividers::IMAGES) {
         let dir = root.join("boards").join(img.krate);
         cargo_build(
             &dir,
@@ -753,7 +755,7 @@ fn tables(
 ) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
-        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel\n",
+        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep\n",
     );
     md.push_str(
         "# Instructions on Cortex-M0 and Cortex-M4 (QEMU, `-icount shift=10`)\n\n\
@@ -796,6 +798,27 @@ fn tables(
     }
     let mut key = None;
     for r in rows {
+        let (method, divide, sweep) = dividers::csv_names(&r.case);
+        let _ = writeln!(
+            csv,
+            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep}",
+            r.board,
+            r.figure,
+            r.width,
+            r.height,
+            r.triangles,
+            r.drawn,
+            r.pixels,
+            r.prepare,
+            r.draw,
+            r.total(),
+            fmt_per(r.total(), r.pixels),
+            fmt_per(r.total(), r.triangles),
+            fmt_per(r.draw, r.pixels)
+        );
+        if sweep != "span" {
+            continue; // in the dividers section
+        }
         let k = (r.board.clone(), r.figure.clone(), r.width, r.height);
         if key.as_ref() != Some(&k) {
             let _ = writeln!(
@@ -820,25 +843,8 @@ fn tables(
             fmt_per(r.total(), r.triangles),
             fmt_per(r.draw, r.pixels)
         );
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.board,
-            r.figure,
-            r.case,
-            r.width,
-            r.height,
-            r.triangles,
-            r.drawn,
-            r.pixels,
-            r.prepare,
-            r.draw,
-            r.total(),
-            fmt_per(r.total(), r.pixels),
-            fmt_per(r.total(), r.triangles),
-            fmt_per(r.draw, r.pixels)
-        );
     }
+    md.push_str(&dividers::section(rows));
     if !calibration.is_empty() {
         md.push_str("\n## Counter calibration\n\n`CALIBRATE board empty measured expected`: the counter around nothing, and around a loop of\nexactly `expected` instructions. `STACK board bytes`: peak stack (painted RAM).\n\n```text\n");
         for l in calibration {

@@ -1,5 +1,6 @@
-//! What the QEMU firmware images share: the table of span methods each frame is drawn
-//! with, a deterministic instruction counter on SysTick, and the line each frame logs.
+//! What the QEMU firmware images share: the tables of span methods and dividers each
+//! frame is drawn with, a deterministic instruction counter on SysTick, and the line
+//! each frame logs.
 //!
 //! Instruction counts: QEMU runs the firmware with `-icount shift=10`, so every
 //! instruction advances the virtual clock by 2¹⁰ ns and SysTick, clocked from the
@@ -22,9 +23,10 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
+use fixshade::divide::{Divide, Exact, ShiftAdd, ShiftAddRounded, Table};
 use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
 use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
-use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod};
+use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats};
 use fixshade::shade::Shading;
 use fixshade::target::{PixelFormat, Target};
@@ -249,6 +251,158 @@ pub fn cases<M: Mode, P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<
         "segment64" => Segment<64>,
         "sierpinski" => Sierpinski,
         "sierpinski-exact" => SierpinskiExact,
+    )
+}
+
+/// Number of cases in [`divider_cases`].
+pub const DIVIDER_CASES: usize = 56;
+
+/// Whether two names are equal, at compile time.
+const fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// Two cases per divider `D` named `$name`: `classic@$name` (the divider in the
+/// per-span division and in the setup's reciprocal) and `gradient@$name` (in the
+/// setup's reciprocal), drawn as the host draws `--divide $name`. A name that is not
+/// `D::NAME` does not compile.
+macro_rules! divider_cases {
+    ($M:ty, $P:ty, $T:ty; $($D:ty => $name:literal),* $(,)?) => {
+        [$(
+            {
+                const _: () = assert!(same(<$D>::NAME, $name), "divider name");
+                (
+                    concat!("classic@", $name),
+                    entry::<WithDivide<Classic<$D>, $D>, $M, $P, $T> as DrawFn<$P, $T>,
+                )
+            },
+            (
+                concat!("gradient@", $name),
+                entry::<WithDivide<Gradient, $D>, $M, $P, $T> as DrawFn<$P, $T>,
+            ),
+        )*]
+    };
+}
+
+/// `classic` and `gradient` with every divider, in the host's order of dividers
+/// (`fixshade list`), named `span@divider`. The `exact` pair draws what the
+/// [`cases`] `classic` and `gradient` draw: the reference of the others in the same
+/// image.
+pub fn divider_cases<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        Table => "table",
+        ShiftAdd<4> => "shift-add-4",
+        ShiftAdd<5> => "shift-add-5",
+        ShiftAdd<6> => "shift-add-6",
+        ShiftAdd<7> => "shift-add-7",
+        ShiftAdd<8> => "shift-add-8",
+        ShiftAdd<9> => "shift-add-9",
+        ShiftAdd<10> => "shift-add-10",
+        ShiftAdd<11> => "shift-add-11",
+        ShiftAdd<12> => "shift-add-12",
+        ShiftAdd<13> => "shift-add-13",
+        ShiftAdd<14> => "shift-add-14",
+        ShiftAdd<15> => "shift-add-15",
+        ShiftAdd<16> => "shift-add-16",
+        ShiftAddRounded<4> => "shift-add-rounded-4",
+        ShiftAddRounded<5> => "shift-add-rounded-5",
+        ShiftAddRounded<6> => "shift-add-rounded-6",
+        ShiftAddRounded<7> => "shift-add-rounded-7",
+        ShiftAddRounded<8> => "shift-add-rounded-8",
+        ShiftAddRounded<9> => "shift-add-rounded-9",
+        ShiftAddRounded<10> => "shift-add-rounded-10",
+        ShiftAddRounded<11> => "shift-add-rounded-11",
+        ShiftAddRounded<12> => "shift-add-rounded-12",
+        ShiftAddRounded<13> => "shift-add-rounded-13",
+        ShiftAddRounded<14> => "shift-add-rounded-14",
+        ShiftAddRounded<15> => "shift-add-rounded-15",
+        ShiftAddRounded<16> => "shift-add-rounded-16",
+    )
+}
+
+/// Number of cases in [`quick_divider_cases`].
+pub const QUICK_DIVIDER_CASES: usize = 14;
+
+/// The part of [`divider_cases`] that fits a small flash next to a figure: `exact`
+/// and the dividers of the quick accuracy report (`fixshade report --quick`).
+pub fn quick_divider_cases<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        Table => "table",
+        ShiftAdd<4> => "shift-add-4",
+        ShiftAdd<8> => "shift-add-8",
+        ShiftAddRounded<8> => "shift-add-rounded-8",
+        ShiftAdd<12> => "shift-add-12",
+        ShiftAdd<16> => "shift-add-16",
+    )
+}
+
+/// The dividers [`quick_divider_cases`] leaves out, in four parts of the same size
+/// or less, each with `exact` (the image's reference): with the quick part, the
+/// whole of [`divider_cases`] in five small images.
+pub fn more_divider_cases_1<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAdd<5> => "shift-add-5",
+        ShiftAdd<6> => "shift-add-6",
+        ShiftAdd<7> => "shift-add-7",
+        ShiftAdd<9> => "shift-add-9",
+        ShiftAdd<10> => "shift-add-10",
+        ShiftAdd<11> => "shift-add-11",
+    )
+}
+
+/// See [`more_divider_cases_1`].
+pub fn more_divider_cases_2<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAdd<13> => "shift-add-13",
+        ShiftAdd<14> => "shift-add-14",
+        ShiftAdd<15> => "shift-add-15",
+        ShiftAddRounded<4> => "shift-add-rounded-4",
+        ShiftAddRounded<5> => "shift-add-rounded-5",
+        ShiftAddRounded<6> => "shift-add-rounded-6",
+    )
+}
+
+/// See [`more_divider_cases_1`].
+pub fn more_divider_cases_3<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAddRounded<7> => "shift-add-rounded-7",
+        ShiftAddRounded<9> => "shift-add-rounded-9",
+        ShiftAddRounded<10> => "shift-add-rounded-10",
+        ShiftAddRounded<11> => "shift-add-rounded-11",
+        ShiftAddRounded<12> => "shift-add-rounded-12",
+        ShiftAddRounded<13> => "shift-add-rounded-13",
+    )
+}
+
+/// See [`more_divider_cases_1`].
+pub fn more_divider_cases_4<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); 8] {
+    divider_cases!(M, P, T;
+        Exact => "exact",
+        ShiftAddRounded<14> => "shift-add-rounded-14",
+        ShiftAddRounded<15> => "shift-add-rounded-15",
+        ShiftAddRounded<16> => "shift-add-rounded-16",
     )
 }
 

@@ -18,8 +18,14 @@
 //!   order, so the frame has the host's bytes; the vertex stage is simply repeated
 //!   (its instructions are in the `prepare` column).
 //!
+//! With the feature `dividers` the image draws `classic` and `gradient` with the
+//! quick report's dividers instead (`boards/common`'s `quick_divider_cases`; frames
+//! `<figure>-<span>@<divider>`), with `dividers1` to `dividers4` the other dividers
+//! (`more_divider_cases_1` to `_4`): the flash does not hold all of them at once.
+//!
 //! Run: `cargo run --release --no-default-features --features teapot` in this
-//! directory (default: sphere); frame files land in the current directory.
+//! directory (default: sphere; `--features sphere,dividers` for the dividers); frame
+//! files land in the current directory.
 #![no_std]
 #![no_main]
 
@@ -33,7 +39,15 @@ use fixshade::scene::Scene;
 use fixshade::scene::ShadingMode;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
-use fixshade_boards_common::{cases, Counter, DrawFn, Fixed, FrameLog};
+#[cfg(not(any(
+    feature = "dividers",
+    feature = "dividers1",
+    feature = "dividers2",
+    feature = "dividers3",
+    feature = "dividers4"
+)))]
+use fixshade_boards_common::cases;
+use fixshade_boards_common::{Counter, DrawFn, Fixed, FrameLog};
 use semihosting::io::Write as _;
 
 #[cfg(feature = "sphere")]
@@ -215,7 +229,31 @@ fn run() -> Result<(), &'static str> {
     if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
         return Err("this image draws Gouraud with the depth test only");
     }
-    for (case, draw) in cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Strip<'_, Rgb565Le>>() {
+    type Case = Fixed<DepthTest, Gouraud>;
+    #[cfg(not(any(
+        feature = "dividers",
+        feature = "dividers1",
+        feature = "dividers2",
+        feature = "dividers3",
+        feature = "dividers4"
+    )))]
+    let table = cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers")]
+    let table =
+        fixshade_boards_common::quick_divider_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers1")]
+    let table =
+        fixshade_boards_common::more_divider_cases_1::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers2")]
+    let table =
+        fixshade_boards_common::more_divider_cases_2::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers3")]
+    let table =
+        fixshade_boards_common::more_divider_cases_3::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "dividers4")]
+    let table =
+        fixshade_boards_common::more_divider_cases_4::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    for (case, draw) in table {
         let log = frame(
             case,
             draw,

@@ -4,6 +4,10 @@
 //! `<figure>-<method>.rgb565` through semihosting, logs a `FRAME` line with its
 //! instruction counts, and exits with status 0 (1 on a render error).
 //!
+//! With the feature `dividers` it draws `classic` and `gradient` with every divider
+//! instead (`boards/common`'s `divider_cases`; frames `<figure>-<span>@<divider>`),
+//! for the figures of the accuracy report (sphere, teapot, robot).
+//!
 //! Run: `cargo run --release` in this directory (needs `qemu-system-arm`); the frame
 //! files land in the current directory. `cargo xtask qemu` runs it and compares every
 //! frame with the host.
@@ -20,8 +24,17 @@ use fixshade::raster::setup::setup;
 use fixshade::render::{Frame, XfVertex, NEEDED, OUTSIDE};
 use fixshade::scene::Scene;
 use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
-use fixshade_boards_common::{cases, Counter, FrameLog, SceneSettings};
+#[cfg(not(feature = "dividers"))]
+use fixshade_boards_common::{cases, SceneSettings};
+use fixshade_boards_common::{Counter, FrameLog};
 use semihosting::io::Write as _;
+#[cfg(feature = "dividers")]
+use {
+    fixshade::raster::span::DepthTest,
+    fixshade::scene::ShadingMode,
+    fixshade::shade::Gouraud,
+    fixshade_boards_common::{divider_cases, Fixed},
+};
 
 /// The built-in scenes, baked by `fixshade bake` (see `boards/baked/README.md`).
 mod baked {
@@ -157,7 +170,22 @@ fn run() -> Result<(), &'static str> {
         let bg = Rgb565Le::pack(fig.background[0], fig.background[1], fig.background[2]);
         let mut fb = Framebuffer::<Rgb565Le>::new(&mut color[..n], Some(&mut depth[..n]), w, h)
             .map_err(|_| "framebuffer")?;
-        for (case, draw) in cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>() {
+        #[cfg(not(feature = "dividers"))]
+        let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>();
+        // The divider cases draw what `Frame::draw` draws for the built-in scenes
+        // (Gouraud, depth test), with only that code in flash; the bench sphere is
+        // left out (the accuracy report has no row for it).
+        #[cfg(feature = "dividers")]
+        let table = {
+            if fig.name == "bench-sphere" {
+                continue;
+            }
+            if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
+                return Err("the divider cases draw Gouraud with the depth test only");
+            }
+            divider_cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Framebuffer<'_, Rgb565Le>>()
+        };
+        for (case, draw) in table {
             fb.clear(bg);
             let (frame, prepare) =
                 counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
@@ -178,7 +206,7 @@ fn run() -> Result<(), &'static str> {
             f.write_all(bytes)
                 .map_err(|_| "cannot write the frame file")?;
         }
-        if fig.name == "bench-sphere" {
+        if cfg!(not(feature = "dividers")) && fig.name == "bench-sphere" {
             setup_cost(&scene, w, h, cache, &mut counter)?;
         }
     }

@@ -394,9 +394,9 @@ pub fn bake_loaded(
     })
 }
 
-/// Renders a one-object scene the way a board with little RAM does: strip by strip
-/// (`rows` rows each), and per strip chunk by chunk (`fixshade bake --chunk
-/// max_vertices`), each chunk with its own vertex stage. Returns the frame's bytes
+/// Renders a one-object scene (its span method and divider) the way a board with
+/// little RAM does: strip by strip (`rows` rows each), and per strip chunk by chunk
+/// (`fixshade bake --chunk max_vertices`), each chunk with its own vertex stage. Returns the frame's bytes
 /// (Rgb565 little-endian scenes only). The QEMU Cortex-M0 firmware renders this way;
 /// `cargo xtask qemu` compares its frames with this.
 pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Result<Vec<u8>, String> {
@@ -440,8 +440,7 @@ pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Resul
         for scene in &scenes {
             let frame =
                 Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache).map_err(|e| e.to_string())?;
-            crate::with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip))
-                .map_err(|e| e.to_string())?;
+            pipeline::draw_span(&frame, d.span, d.divide, &mut strip)?;
         }
         out.extend(
             strip

@@ -317,6 +317,23 @@ impl SpanDispatch for DividedSpans {
     }
 }
 
+/// Draws a prepared frame with span method `span` and the divider `divide`, as
+/// [`render`] does for a Gouraud scene without perspective correction (for
+/// [`crate::bake::render_chunked`]).
+pub(crate) fn draw_span<P: PixelFormat, Sp: Specular>(
+    frame: &Frame<'_, '_, '_, P, Sp>,
+    span: SpanName,
+    divide: DivideName,
+    fb: &mut impl fixshade::target::Target<P>,
+) -> Result<Stats, String> {
+    if divide == DivideName::Exact {
+        ExactSpans::dispatch(frame, span, fb)
+    } else {
+        crate::host_divide::select(divide);
+        DividedSpans::dispatch(frame, span, fb)
+    }
+}
+
 fn draw_perspective<D: fixshade::divide::Divide, P: PixelFormat, Sp: Specular>(
     frame: &Frame<'_, '_, '_, P, Sp>,
     mode: Perspective,

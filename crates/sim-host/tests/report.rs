@@ -39,10 +39,11 @@ fn quick_report_writes_table_csv_and_chart() {
         assert!(nmse >= 0.0);
         let ns: f64 = row[col("ns_per_px")].parse().expect("ns/px parses");
         assert!(ns > 0.0);
-        // Measured (a number) only for span rows, never made up for the others.
+        // Measured (a number) only for span, divide and setup rows, never made up for
+        // the others.
         for c in ["instr_per_px_m0", "instr_per_px_m4"] {
             let v = row[col(c)];
-            if row[col("kind")] != "span" {
+            if !["span", "divide", "setup"].contains(&row[col("kind")]) {
                 assert_eq!(v, NOT_MEASURED, "{row:?}");
             } else if v != NOT_MEASURED {
                 assert!(v.parse::<f64>().is_ok_and(|x| x > 0.0), "{row:?}");
@@ -56,6 +57,15 @@ fn quick_report_writes_table_csv_and_chart() {
         .unwrap();
     assert_ne!(classic[col("instr_per_px_m0")], NOT_MEASURED);
     assert_ne!(classic[col("instr_per_px_m4")], NOT_MEASURED);
+    // ... and `classic` and `gradient` with the quick report's dividers on both boards.
+    for kind in ["divide", "setup"] {
+        let sa8 = rows
+            .iter()
+            .find(|r| r[col("kind")] == kind && r[col("configuration")] == "shift-add-8")
+            .unwrap();
+        assert_ne!(sa8[col("instr_per_px_m0")], NOT_MEASURED, "{sa8:?}");
+        assert_ne!(sa8[col("instr_per_px_m4")], NOT_MEASURED, "{sa8:?}");
+    }
     // The divider and specular sweeps are there.
     for kind in ["divide", "setup", "specular", "perspective"] {
         assert!(

@@ -1,0 +1,182 @@
+//! The divider sweep of `cargo xtask qemu`. The images built with the feature
+//! `dividers` draw `classic` and `gradient` with the dividers of the `Divide` seam
+//! (boards/common: `divider_cases`, all 28 on the Cortex-M4; on the Cortex-M0, whose
+//! flash holds seven dividers next to a figure's mesh, `quick_divider_cases`, the
+//! quick report's six and `exact`, for every figure, and `more_divider_cases_1` to
+//! `_4`, the other 21 and `exact`, for the sphere). Their frames are named `span@divider`; the host renders
+//! them with that span method and divider (`fixshade render --divide`), as
+//! `WithDivide<Classic<D>, D>` and `WithDivide<Gradient, D>`.
+//!
+//! Each image also draws the `exact` pair, so every divider is compared with
+//! `exact` compiled into the same image (the span-method images inline the
+//! pipeline differently, a few per cent apart).
+
+use std::fmt::Write as _;
+
+use fixshade_sim::desc::{DivideName, Named, SceneDesc, SpanName};
+
+use super::{fmt_per, FrameRow, Image, Kind};
+
+/// The divider images, run after the others: the Cortex-M4 one, then the
+/// Cortex-M0's quick part for each figure and the four other parts for the sphere.
+pub(super) const IMAGES: &[Image] = &[
+    Image {
+        krate: "qemu-mps2-an386",
+        features: "dividers",
+        target: "thumbv7em-none-eabihf",
+        bin: "fixshade-qemu-mps2-an386",
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        kind: Kind::Figures,
+    },
+    m0("sphere,dividers"),
+    m0("teapot,dividers"),
+    m0("robot,dividers"),
+    m0("sphere,dividers1"),
+    m0("sphere,dividers2"),
+    m0("sphere,dividers3"),
+    m0("sphere,dividers4"),
+];
+
+/// A Cortex-M0 (micro:bit) image with these features.
+const fn m0(features: &'static str) -> Image {
+    Image {
+        krate: "qemu-microbit",
+        features,
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-qemu-microbit",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Figures,
+    }
+}
+
+/// `span@divider` → `(span, divider)`; `None` for a case of the span-method images.
+pub(super) fn split(case: &str) -> Option<(&str, &str)> {
+    case.split_once('@')
+}
+
+/// Sets the host scene's span method and divider from a case name.
+pub(super) fn apply(desc: &mut SceneDesc, case: &str) -> Result<(), String> {
+    match split(case) {
+        Some((span, divider)) => {
+            desc.span = SpanName::parse(span)?;
+            desc.divide = DivideName::parse(divider)?;
+        }
+        None => {
+            desc.span = SpanName::parse(case)?;
+            desc.divide = DivideName::Exact;
+        }
+    }
+    Ok(())
+}
+
+/// The CSV's `method`, `divide` and `sweep` of a case: `sweep` is `span` for the
+/// span-method images, `divide` for the divider images (whose `exact` rows are that
+/// image's own reference).
+pub(super) fn csv_names(case: &str) -> (&str, &str, &str) {
+    match split(case) {
+        Some((span, divider)) => (span, divider, "divide"),
+        None => (case, "exact", "span"),
+    }
+}
+
+/// The markdown section: per board and figure, every divider against the same
+/// image's `exact`.
+pub(super) fn section(rows: &[FrameRow]) -> String {
+    let div: Vec<&FrameRow> = rows.iter().filter(|r| split(&r.case).is_some()).collect();
+    if div.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from(
+        "\n## Dividers\n\n\
+         `classic` (the divider in its per-span division and in the setup's reciprocal)\n\
+         and `gradient` (the divider in the setup's reciprocal) with each divider of the\n\
+         `Divide` seam, drawn as `fixshade render --divide NAME` draws them and compared\n\
+         byte for byte with that host render (on the Cortex-M0, rendering the same strips\n\
+         and mesh chunks). The Cortex-M4 image draws every divider on sphere, teapot and\n\
+         robot. The Cortex-M0's 256 KiB of flash hold seven dividers next to a mesh: its\n\
+         images draw the sphere with every divider (five images) and teapot and robot with\n\
+         the quick report's dividers only (`table`, `shift-add-4/8/12/16`,\n\
+         `shift-add-rounded-8`; the other 21 stay `not measured` there). Each image\n\
+         draws the `exact` pair too, and every ratio is to that `exact`, compiled into the\n\
+         same image (the `exact` row shows the first image's). Per pixel and per\n\
+         triangle are the whole frame (vertex stage and draw) as above; `draw ×` compares\n\
+         the rasterizer alone (the vertex stage does not divide), which on the Cortex-M0\n\
+         is a small part of the frame.\n",
+    );
+    let mut keys: Vec<(&str, &str)> = Vec::new();
+    for r in &div {
+        if !keys.contains(&(r.board.as_str(), r.figure.as_str())) {
+            keys.push((&r.board, &r.figure));
+        }
+    }
+    for (board, figure) in keys {
+        let here: Vec<&&FrameRow> = div
+            .iter()
+            .filter(|r| r.board == board && r.figure == figure)
+            .collect();
+        let find = |span: &str, d: &str| {
+            here.iter()
+                .find(|r| split(&r.case) == Some((span, d)))
+                .copied()
+        };
+        // The `exact` frame drawn last up to `r` in the log (each image draws its
+        // `exact` pair first; the M0 sphere takes five images).
+        let exact_for = |r: &FrameRow, span: &str| {
+            let i = here.iter().position(|x| std::ptr::eq(**x, r))?;
+            here[..=i]
+                .iter()
+                .rev()
+                .find(|x| split(&x.case) == Some((span, "exact")))
+                .copied()
+        };
+        let mut dividers: Vec<&str> = Vec::new();
+        for r in &here {
+            if let Some((_, d)) = split(&r.case) {
+                if !dividers.contains(&d) {
+                    dividers.push(d);
+                }
+            }
+        }
+        let _ = writeln!(
+            md,
+            "\n### {board} — {figure} ({} triangles, {} covered pixels)\n\n\
+             | divider | classic per pixel | classic per triangle | classic draw × exact | gradient per pixel | gradient per triangle | gradient draw × exact |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: |",
+            here[0].triangles, here[0].pixels
+        );
+        // In the host's order (`fixshade list`).
+        let order = |d: &&str| {
+            DivideName::ALL
+                .iter()
+                .position(|(_, n)| n == d)
+                .unwrap_or(usize::MAX)
+        };
+        dividers.sort_by_key(order);
+        for d in dividers {
+            let mut cells = Vec::new();
+            for span in ["classic", "gradient"] {
+                match find(span, d) {
+                    Some(r) => {
+                        let e = exact_for(r, span);
+                        cells.push(fmt_per(r.total(), r.pixels));
+                        cells.push(fmt_per(r.total(), r.triangles));
+                        cells.push(e.map_or("-".into(), |e| ratio(r.draw, e.draw)));
+                    }
+                    None => cells.extend(["-".to_string(), "-".into(), "-".into()]),
+                }
+            }
+            let _ = writeln!(md, "| {d} | {} |", cells.join(" | "));
+        }
+    }
+    md
+}
+
+fn ratio(a: u64, b: u64) -> String {
+    if b == 0 {
+        "-".into()
+    } else {
+        format!("{:.3}", a as f64 / b as f64)
+    }
+}
