@@ -427,7 +427,11 @@ fn mcu_cell(
 ) -> Option<f64> {
     let (divide, sweep) = match c.kind {
         Kind::Span => ("exact", "span"),
-        Kind::Divide | Kind::Setup => (c.divide.name(), "divide"),
+        // The firmware draws the divider rows with Gouraud only (not the Phong
+        // setup rows).
+        Kind::Divide | Kind::Setup if c.shading == ShadingName::Gouraud => {
+            (c.divide.name(), "divide")
+        }
         _ => return None,
     };
     counts
@@ -457,7 +461,10 @@ fn mcu_dividers(rows: &[Row], figures: &[String], counts: &HashMap<McuKey, McuCo
                     .iter()
                     .filter(|f| {
                         rows.iter().any(|r| {
-                            &r.figure == *f && r.config.kind == kind && r.config.divide == d
+                            &r.figure == *f
+                                && r.config.kind == kind
+                                && r.config.shading == ShadingName::Gouraud
+                                && r.config.divide == d
                         })
                     })
                     .filter_map(|f| {
