@@ -547,10 +547,99 @@ pub fn check_phong(c: &Case) -> Result<Figures, String> {
     Ok(f)
 }
 
-/// Checks a case with every span method, the quadratic fills and the Phong fills.
+/// Checks the perspective-correct Gouraud fill (`raster::perspective`) on a case,
+/// with vertex w equal, 1 : 2 : 4 and 1 : 2²⁰ : 3 (beyond its 2¹⁵ ratio, where the
+/// far weight clamps), one division per pixel and per 16 pixels, through `exact`
+/// (with and without depth) and `shift-add-4` (the coarsest divider): no write
+/// outside; without depth, exactly the pixels the `gradient` draw covers, and the
+/// count it reports; with in-range vertex colours, every channel inside the range of
+/// the vertex colours (the fill clamps its weights; one step for the output
+/// rounding); depth within 1 of the exact value where the case asks (depth is not
+/// corrected: it is affine in screen space).
+pub fn check_perspective(c: &Case) -> Result<Figures, String> {
+    use fixshade::divide::{Exact, ShiftAdd};
+    use fixshade::raster::perspective::{draw_triangle_perspective, Perspective};
+    use fixshade::raster::span::Gradient;
+    let h = c.holds;
+    let mut f = Figures::default();
+    let win = Window {
+        width: c.frame.0 as usize,
+        y0: c.strip.0 as i32,
+        h: c.strip.1 as usize,
+    };
+    for (k, t) in c.tris.iter().enumerate() {
+        let mut g = guarded::<Count>(c, false, 0, 0);
+        draw_triangle::<Count, _, Gradient, NoDepth, Flat>(&mut g, *t);
+        let want: Vec<bool> = g.pixels().iter().map(|p| *p > 0).collect();
+        // Channel range of the vertex colours, in output steps (rounded).
+        let range: [(i32, i32); 3] = core::array::from_fn(|ch| {
+            let lo = t.iter().map(|v| v.c[ch]).min().unwrap_or(0);
+            let hi = t.iter().map(|v| v.c[ch]).max().unwrap_or(0);
+            ((lo >> 16) - 1, (hi >> 16) + 1)
+        });
+        for w in [[1, 1, 1], [1, 2, 4], [1, 1 << 20, 3]] {
+            for (mode, mname) in [
+                (Perspective::PER_PIXEL, "1px"),
+                (Perspective::SUB16, "16px"),
+            ] {
+                for (run, rname) in [(0, "exact"), (1, "exact, depth"), (2, "shift-add-4")] {
+                    let what = format!("[perspective {mname} {rname} w={w:?}] triangle {k}");
+                    let depth = run == 1;
+                    let mut g = rec(c, depth);
+                    let n = match run {
+                        0 => draw_triangle_perspective::<Rec, _, NoDepth, Gouraud, Exact>(
+                            &mut g, *t, w, mode,
+                        ),
+                        1 => draw_triangle_perspective::<Rec, _, DepthTest, Gouraud, Exact>(
+                            &mut g, *t, w, mode,
+                        ),
+                        _ => draw_triangle_perspective::<Rec, _, NoDepth, Gouraud, ShiftAdd<4>>(
+                            &mut g, *t, w, mode,
+                        ),
+                    };
+                    intact(&g, &what)?;
+                    let col = g.pixels();
+                    if !depth {
+                        let got: Vec<bool> = col.iter().map(|p| p.is_some()).collect();
+                        if got != want {
+                            return Err(format!("{what}: covers other pixels than gradient"));
+                        }
+                        let covered = got.iter().filter(|b| **b).count() as u32;
+                        if covered != n {
+                            return Err(format!("{what}: reported {n} pixels, wrote {covered}"));
+                        }
+                        f.coverage_checks += got.len() as u64;
+                    }
+                    if colours_valid(t) {
+                        for (i, p) in col.iter().enumerate() {
+                            let Some(p) = p else { continue };
+                            for (ch, v) in p.iter().enumerate() {
+                                f.colour_checks += 1;
+                                if !(range[ch].0..=range[ch].1).contains(v) {
+                                    let (x, y) = pixel_xy(&win, i);
+                                    return Err(format!(
+                                        "{what}: pixel ({x},{y}) channel {ch}: {v} outside the vertex colours' range {:?}",
+                                        range[ch]
+                                    ));
+                                }
+                            }
+                        }
+                    }
+                    if depth && h.depth {
+                        depth_errors(&win, &col, &g.depths(), t, &format!("{what} depth"), &mut f)?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(f)
+}
+
+/// Checks a case with every span method, the quadratic, Phong and perspective fills.
 pub fn check_all(c: &Case) -> Result<Figures, String> {
     let mut f = check_quadratic(c)?;
     f += check_phong(c)?;
+    f += check_perspective(c)?;
     for span in span_methods() {
         f += with_span_method!(span, S => check_method::<S>(c, span))?;
     }
