@@ -158,6 +158,23 @@ fn intact<P: fixshade::target::PixelFormat>(g: &Guarded<P>, what: &str) -> Resul
     }
 }
 
+/// The rows of a case's frame its target holds.
+fn window(c: &Case) -> Window {
+    Window {
+        width: c.frame.0 as usize,
+        y0: c.strip.0 as i32,
+        h: c.strip.1 as usize,
+    }
+}
+
+/// The pixels the flat `gradient` draw of `t` covers in a case's target.
+fn gradient_coverage(c: &Case, t: &[ScreenVertex; 3]) -> Vec<bool> {
+    use fixshade::raster::span::Gradient;
+    let mut g = guarded::<Count>(c, false, 0, 0);
+    draw_triangle::<Count, _, Gradient, NoDepth, Flat>(&mut g, *t);
+    g.pixels().iter().map(|p| *p > 0).collect()
+}
+
 fn pixel_xy(win: &Window, i: usize) -> (i32, i32) {
     ((i % win.width) as i32, win.y0 + (i / win.width) as i32)
 }
@@ -234,11 +251,7 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
     let h = c.holds;
     let mut f = Figures::default();
     let name = span.name();
-    let win = Window {
-        width: c.frame.0 as usize,
-        y0: c.strip.0 as i32,
-        h: c.strip.1 as usize,
-    };
+    let win = window(c);
     let mut total = 0u64;
     for (k, t) in c.tris.iter().enumerate() {
         let what = format!("[{name}] triangle {k}");
@@ -367,11 +380,7 @@ pub fn check_method<S: SpanMethod>(c: &Case, span: SpanName) -> Result<Figures, 
 pub fn check_quadratic(c: &Case) -> Result<Figures, String> {
     let h = c.holds;
     let mut f = Figures::default();
-    let win = Window {
-        width: c.frame.0 as usize,
-        y0: c.strip.0 as i32,
-        h: c.strip.1 as usize,
-    };
+    let win = window(c);
     for (k, t) in c.tris.iter().enumerate() {
         let mid = linear_mids(t);
         for (fill, fname) in [(Fill::Blocks, "blocks"), (Fill::Rows, "rows")] {
@@ -454,20 +463,13 @@ pub fn phong_vertices(t: &[ScreenVertex; 3]) -> [PhongVertex; 3] {
 /// channel within 1 step of `NormalLight` of the exact renormalised normal (`colour`
 /// cases).
 pub fn check_phong(c: &Case) -> Result<Figures, String> {
-    use fixshade::raster::span::Gradient;
     let h = c.holds;
     let mut f = Figures::default();
-    let win = Window {
-        width: c.frame.0 as usize,
-        y0: c.strip.0 as i32,
-        h: c.strip.1 as usize,
-    };
+    let win = window(c);
     for (k, t) in c.tris.iter().enumerate() {
         let what = format!("[phong] triangle {k}");
         let pv = phong_vertices(t);
-        let mut g = guarded::<Count>(c, false, 0, 0);
-        draw_triangle::<Count, _, Gradient, NoDepth, Flat>(&mut g, *t);
-        let want: Vec<bool> = g.pixels().iter().map(|p| *p > 0).collect();
+        let want = gradient_coverage(c, t);
         for depth in [false, true] {
             let mut rows = rec(c, depth);
             let mut eo = rec(c, depth);
@@ -559,18 +561,11 @@ pub fn check_phong(c: &Case) -> Result<Figures, String> {
 pub fn check_perspective(c: &Case) -> Result<Figures, String> {
     use fixshade::divide::{Exact, ShiftAdd};
     use fixshade::raster::perspective::{draw_triangle_perspective, Perspective};
-    use fixshade::raster::span::Gradient;
     let h = c.holds;
     let mut f = Figures::default();
-    let win = Window {
-        width: c.frame.0 as usize,
-        y0: c.strip.0 as i32,
-        h: c.strip.1 as usize,
-    };
+    let win = window(c);
     for (k, t) in c.tris.iter().enumerate() {
-        let mut g = guarded::<Count>(c, false, 0, 0);
-        draw_triangle::<Count, _, Gradient, NoDepth, Flat>(&mut g, *t);
-        let want: Vec<bool> = g.pixels().iter().map(|p| *p > 0).collect();
+        let want = gradient_coverage(c, t);
         // Channel range of the vertex colours, in output steps (rounded).
         let range: [(i32, i32); 3] = core::array::from_fn(|ch| {
             let lo = t.iter().map(|v| v.c[ch]).min().unwrap_or(0);

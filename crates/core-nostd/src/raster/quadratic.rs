@@ -97,8 +97,9 @@ struct Recip {
 
 impl Recip {
     /// Through `D`: [`Exact`] gives `⌊2¹²⁷ / |d|⌋`; any other variant
-    /// [`wide_recip`]'s under-estimate, within its relative error `η` (at most
-    /// `2¹²⁷/|d|` as well, so the bounds of [`Recip::div`] hold).
+    /// [`wide_recip`]'s under-estimate, within its relative error `η`. Either is at
+    /// most `2¹²⁷/|d|`, so [`Recip::div`]'s overflow bounds hold; its rounding claim
+    /// is the exact reciprocal's (an approximate one adds `η` relative).
     fn new<D: Divide>(d: i128) -> Recip {
         let inv = if D::EXACT {
             (1u128 << 127) / d.unsigned_abs()
