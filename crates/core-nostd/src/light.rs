@@ -251,7 +251,10 @@ pub const MAX_LIGHTS: usize = 8;
 /// ```
 #[derive(Clone, Debug)]
 pub struct LightingSetup<S: Specular> {
+    /// The directional lights first, then the point lights (see [`Self::shade`]).
     lights: heapless::Vec<EyeLight, MAX_LIGHTS>,
+    /// How many of `lights` are directional.
+    directional: usize,
     /// emission + global_ambient·ka, Q16.16.
     base: [i64; 3],
     local_viewer: bool,
@@ -272,7 +275,18 @@ impl<S: Specular> LightingSetup<S> {
         local_viewer: bool,
     ) -> LightingSetup<S> {
         let mut out = heapless::Vec::new();
-        for light in lights.iter().take(MAX_LIGHTS) {
+        // Directional lights first: `shade` walks them in a loop of their own. The
+        // order of the lights does not change a colour (exact integer sums).
+        let lights = lights.iter().take(MAX_LIGHTS);
+        let directional = lights
+            .clone()
+            .filter(|l| matches!(l.kind, LightKind::Directional { .. }))
+            .count();
+        let (dirs, points) = (lights.clone(), lights);
+        let ordered = dirs
+            .filter(|l| matches!(l.kind, LightKind::Directional { .. }))
+            .chain(points.filter(|l| matches!(l.kind, LightKind::Point { .. })));
+        for light in ordered {
             let kind = match light.kind {
                 LightKind::Directional { direction } => {
                     let d = view.transform_dir(direction);
@@ -318,6 +332,7 @@ impl<S: Specular> LightingSetup<S> {
             .clamp(Q16_16::ONE, Q16_16::from_int(1000));
         LightingSetup {
             lights: out,
+            directional,
             base,
             local_viewer,
             spec: S::prepare(n),
@@ -332,78 +347,101 @@ impl<S: Specular> LightingSetup<S> {
     /// most 8 lights cannot overflow.
     pub fn shade(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
         let mut acc = self.base;
-        let view = if self.local_viewer {
+        // The viewer direction enters the half vector only: without a specular term
+        // it is never needed.
+        let view = if S::ENABLED && self.local_viewer {
             normalize_to_q30([-(p[0] as i64), -(p[1] as i64), -(p[2] as i64)])
                 .unwrap_or([0, 0, ONE_Q30])
         } else {
             [0, 0, ONE_Q30]
         };
-        for light in &self.lights {
-            let (l, att, h) = match light.kind {
-                EyeKind::Directional { l, h } => {
-                    let h = if self.local_viewer { half(l, view) } else { h };
-                    (l, None, h)
-                }
-                EyeKind::Point { pos, att } => {
-                    let d = [
-                        pos[0] as i64 - p[0] as i64,
-                        pos[1] as i64 - p[1] as i64,
-                        pos[2] as i64 - p[2] as i64,
-                    ];
-                    let Some(l) = normalize_to_q30(d) else {
-                        continue;
-                    };
-                    let a = attenuation(d, att);
-                    (l, Some(a), half(l, view))
-                }
-            };
-            // `att` None: a directional light, attenuation exactly 1 (2¹⁶ in
-            // Q16.16); its products are skipped, with the same values
-            // ((x·2¹⁶) >> 16 = x, (2¹⁶·y) >> 30 = y >> 14).
-            match att {
-                None => {
-                    for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                        *c += amb;
-                    }
-                }
-                Some(a) => {
-                    for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                        *c += (amb * a) >> 16;
-                    }
-                }
-            }
-            let nl = dot_q30(n, l);
-            if nl <= 0 {
+        let (dirs, points) = self
+            .lights
+            .split_at(self.directional.min(self.lights.len()));
+        // Directional lights in a loop of their own: no distance, no attenuation.
+        for light in dirs {
+            let EyeKind::Directional { l, h } = light.kind else {
                 continue;
-            }
-            // att·(N·L): Q16.16 · Q2.30 → Q16.16.
-            let f = match att {
-                None => nl as i64 >> 14,
-                Some(a) => (a * nl as i64) >> 30,
             };
-            for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
-                *c += (dif * f) >> 16;
-            }
-            if !S::ENABLED || !light.has_spec {
+            let h = || if self.local_viewer { half(l, view) } else { h };
+            self.add_light(&mut acc, light, n, l, None, h);
+        }
+        for light in points {
+            let EyeKind::Point { pos, att } = light.kind else {
                 continue;
-            }
-            let Some(h) = h else { continue };
-            let nh = dot_q30(n, h);
-            if nh <= 0 {
-                continue;
-            }
-            let s = S::eval_wide(&self.spec, nh.min(ONE_Q30));
-            // att ≤ 2^31 (Q16.16) and s ≤ 2^36 (Q.30): the product needs i128 only
-            // for a point light; a directional light's att is exactly 2^16.
-            let f = match att {
-                None => (s >> 14) as i64,
-                Some(a) => ((a as i128 * s as i128) >> 30) as i64,
             };
-            for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
-                *c += (sp * f) >> 16;
-            }
+            let d = [
+                pos[0] as i64 - p[0] as i64,
+                pos[1] as i64 - p[1] as i64,
+                pos[2] as i64 - p[2] as i64,
+            ];
+            let Some(l) = normalize_to_q30(d) else {
+                continue;
+            };
+            let a = attenuation(d, att);
+            self.add_light(&mut acc, light, n, l, Some(a), || half(l, view));
         }
         acc.map(|c| c.clamp(0, 1 << 16) as i32)
+    }
+
+    /// Adds one light's ambient, diffuse and specular terms to `acc`: unit normal
+    /// `n` and direction to the light `l` (Q2.30), attenuation `att` (Q16.16;
+    /// `None` for a directional light, exactly 1), the half vector computed only
+    /// when the specular term is needed.
+    #[inline(always)]
+    fn add_light(
+        &self,
+        acc: &mut [i64; 3],
+        light: &EyeLight,
+        n: [i32; 3],
+        l: [i32; 3],
+        att: Option<i64>,
+        h: impl FnOnce() -> Option<[i32; 3]>,
+    ) {
+        // `att` None: attenuation exactly 1 (2¹⁶ in Q16.16); its products are
+        // skipped, with the same values ((x·2¹⁶) >> 16 = x, (2¹⁶·y) >> 30 = y >> 14).
+        match att {
+            None => {
+                for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
+                    *c += amb;
+                }
+            }
+            Some(a) => {
+                for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
+                    *c += (amb * a) >> 16;
+                }
+            }
+        }
+        let nl = dot_q30(n, l);
+        if nl <= 0 {
+            return;
+        }
+        // att·(N·L): Q16.16 · Q2.30 → Q16.16.
+        let f = match att {
+            None => nl as i64 >> 14,
+            Some(a) => (a * nl as i64) >> 30,
+        };
+        for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
+            *c += (dif * f) >> 16;
+        }
+        if !S::ENABLED || !light.has_spec {
+            return;
+        }
+        let Some(h) = h() else { return };
+        let nh = dot_q30(n, h);
+        if nh <= 0 {
+            return;
+        }
+        let s = S::eval_wide(&self.spec, nh.min(ONE_Q30));
+        // att ≤ 2^31 (Q16.16) and s ≤ 2^36 (Q.30): the product needs i128 only
+        // for a point light; a directional light's att is exactly 2^16.
+        let f = match att {
+            None => (s >> 14) as i64,
+            Some(a) => ((a as i128 * s as i128) >> 30) as i64,
+        };
+        for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
+            *c += (sp * f) >> 16;
+        }
     }
 }
 
@@ -812,6 +850,63 @@ mod tests {
             true,
         );
         assert_eq!(setup.shade([0, 0, -(3 << 16)], [0, 0, ONE_Q30]), [0, 0, 0]);
+    }
+
+    #[test]
+    fn mixed_lights_sum_in_any_order() {
+        // Point lights interleaved with directional ones: the setup walks the
+        // directional lights first, which must not change a colour. Without
+        // ambient parts or global ambient the lights' terms simply add (as long as
+        // no channel saturates), so each pair is also checked against the two
+        // lights alone.
+        let white = [q(1, 4); 3];
+        let sun = |x: i32| Light::directional([q(x, 4), Q16_16::ONE, Q16_16::ONE], white, white);
+        let lamp = |x: i32| Light {
+            kind: LightKind::Point {
+                position: [q(x, 2), Q16_16::ONE, Q16_16::from_int(2)],
+                attenuation: [Q16_16::ONE, q(1, 4), Q16_16::ZERO],
+            },
+            ambient: [Q16_16::ZERO; 3],
+            diffuse: white,
+            specular: white,
+        };
+        let mat = Material {
+            emission: [Q16_16::ZERO; 3],
+            ambient: [Q16_16::ZERO; 3],
+            specular: [q(1, 2); 3],
+            ..Material::default()
+        };
+        let setup = |ls: &[Light], local: bool| {
+            LightingSetup::<BlinnExact>::new(ls, &Mat4::IDENTITY, &mat, [Q16_16::ZERO; 3], local)
+        };
+        let lights = [lamp(1), sun(-1), lamp(-3), sun(2)];
+        let p = [1 << 14, -(1 << 15), -(3 << 16)];
+        let mut lit = 0;
+        for local in [false, true] {
+            let all = setup(&lights, local);
+            let rev = {
+                let mut r = lights;
+                r.reverse();
+                setup(&r, local)
+            };
+            for k in 0..64 {
+                let n = normalize_to_q30([(k % 8 - 4) as i64, (k / 8 - 4) as i64, 6])
+                    .expect("non-zero");
+                let c = all.shade(p, n);
+                assert_eq!(c, rev.shade(p, n), "normal {n:?}");
+                let parts: [i32; 3] = core::array::from_fn(|ch| {
+                    lights
+                        .iter()
+                        .map(|l| setup(&[*l], local).shade(p, n)[ch])
+                        .sum()
+                });
+                if parts.iter().all(|v| *v < 1 << 16) {
+                    assert_eq!(c, parts, "normal {n:?}");
+                    lit += 1;
+                }
+            }
+        }
+        assert!(lit > 64, "{lit} unsaturated samples");
     }
 
     #[test]
