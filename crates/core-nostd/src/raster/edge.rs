@@ -58,7 +58,10 @@ pub(crate) fn ceil_div(n: i64, d: i64) -> i64 {
 impl EdgeStepper {
     /// The stepper of the edge `top → bottom` (`top.1 < bottom.1`) positioned on
     /// pixel row `y`.
-    #[inline]
+    ///
+    /// Always inlined: its fast paths branch on the data, and out of line the call
+    /// and the spilled result cost more than the divisions they skip.
+    #[inline(always)]
     pub fn new(top: (i32, i32), bottom: (i32, i32), y: i32) -> EdgeStepper {
         let dx = bottom.0 - top.0;
         let dy = bottom.1 - top.1;
