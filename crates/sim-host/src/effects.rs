@@ -52,7 +52,7 @@ pub enum Effect {
     Lighting,
     /// The local viewer.
     LocalViewer,
-    /// Perspective-correct interpolation of Gouraud colours.
+    /// Perspective-correct interpolation of Gouraud colours and Phong normals.
     Perspective,
 }
 
@@ -155,7 +155,7 @@ pub struct Effects {
     pub lights: Setting<(usize, usize)>,
     /// Local viewer.
     pub local_viewer: Setting<bool>,
-    /// Perspective-correct interpolation of Gouraud colours.
+    /// Perspective-correct interpolation of Gouraud colours and Phong normals.
     pub perspective: Setting<bool>,
 }
 
@@ -345,17 +345,22 @@ pub fn derive(ls: &LoadedScene) -> Result<Effects, String> {
     if let Some((on, src)) = forced(Effect::Perspective) {
         perspective = set(on, src.why());
     }
-    // Only Gouraud colours are corrected.
-    if perspective.value && shading.value != ShadingName::Gouraud {
-        perspective = set(
-            false,
-            if shading.value == ShadingName::Flat {
-                "flat shading: one colour per triangle, nothing to correct"
-            } else {
-                "only Gouraud colours are corrected: the quadratic surface and Phong \
-                 normals interpolate in screen space"
-            },
-        );
+    // Gouraud colours and Phong normals and positions are corrected.
+    let corrected = match shading.value {
+        ShadingName::Gouraud | ShadingName::PhongEvenOdd | ShadingName::Adaptive => Ok(()),
+        ShadingName::Phong if !d.raycast.sampled => Ok(()),
+        ShadingName::Phong => Err(
+            "sampled Phong lighting (the segment sampler): its attributes interpolate in \
+             screen space",
+        ),
+        ShadingName::Flat => Err("flat shading: one colour per triangle, nothing to correct"),
+        ShadingName::Quadratic => {
+            Err("the quadratic surface interpolates in screen space (not corrected)")
+        }
+        ShadingName::Raycast => Err("ray casting: each pixel is cast, nothing to correct"),
+    };
+    if let (true, Err(why)) = (perspective.value, corrected) {
+        perspective = set(false, why);
     }
 
     Ok(Effects {
@@ -855,12 +860,12 @@ as written (tested in `tests/tests/effects.rs`):
 | depth test | one convex mesh with back-face culling | off (front faces of a convex surface never overlap) |
 | depth test, culling | otherwise | as the scene file sets them |
 | perspective correction | orthographic camera | off (screen-space interpolation is exact) |
-| perspective correction | perspective camera | as the scene sets `perspective_correct` (default off: the seeds' screen-space Gouraud); on: Gouraud colours through one reciprocal per `perspective_span` pixels |
-| perspective correction | flat, quadratic, Phong or adaptive shading | off (flat has nothing to correct; the quadratic surface and Phong normals interpolate in screen space) |
+| perspective correction | perspective camera | as the scene sets `perspective_correct` (default off: the seeds' screen-space interpolation); on: Gouraud colours, Phong normals and eye positions (adaptive: both) through one reciprocal per `perspective_span` pixels |
+| perspective correction | flat, quadratic or ray-cast shading, sampled Phong | off (flat and ray casting have nothing to correct; the quadratic surface and the segment sampler interpolate in screen space) |
 
 Forced settings (`+NAME`/`-NAME`, NAME: `depth`, `cull`, `specular`, `lighting`, \
 `local-viewer`, `perspective`) win over the rules; `-specular` drops the highlights, \
-`-lighting` draws unlit, `+perspective` corrects Gouraud colours.
+`-lighting` draws unlit, `+perspective` corrects Gouraud colours and Phong normals.
 
 Adaptive shading bounds the specular term over each triangle \
 (`LightingSetup::specular_bound`: the vertex normals in a cone around their \
