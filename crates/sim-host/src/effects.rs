@@ -556,8 +556,14 @@ pub const TABLE_SCENES: &[&str] = &[
 ];
 
 /// The scenes of the perspective-correction section: one large plane of two
-/// triangles, and the same plane as a 32 × 32 grid.
-pub const PERSPECTIVE_SCENES: &[&str] = &["ground-plane", "ground-fine"];
+/// triangles, and the same plane as a 32 × 32 grid; Gouraud, and Phong with a
+/// specular point light.
+pub const PERSPECTIVE_SCENES: &[&str] = &[
+    "ground-plane",
+    "ground-fine",
+    "ground-plane-phong",
+    "ground-fine-phong",
+];
 
 /// One configuration of the perspective-correction section.
 #[derive(Clone, Debug)]
@@ -778,22 +784,26 @@ fn table_markdown(pairs: usize, runs: usize, quick: bool) -> Result<String, Stri
     let _ = writeln!(m, "## Perspective correction\n");
     let _ = writeln!(
         m,
-        "Gouraud colours interpolated in screen space (the seeds' methods) against \
-         perspective-correct ones (`perspective_correct = true`, `--perspective on`): \
-         the screen-affine weights `b_i` become `(b_i/w_i) / Σ b_j/w_j`, three planes \
-         per triangle and one reciprocal wherever the colour is sampled, every pixel \
-         or every `perspective_span` pixels with linear interpolation between \
-         (`fixshade::raster::perspective`). Depth needs no correction (the buffer \
+        "Gouraud colours and Phong normals and eye positions interpolated in screen \
+         space (the seeds' methods) against perspective-correct ones \
+         (`perspective_correct = true`, `--perspective on`): the screen-affine \
+         weights `b_i` become `(b_i/w_i) / Σ b_j/w_j`, three planes per triangle and \
+         one reciprocal wherever the attributes are sampled, every pixel or every \
+         `perspective_span` pixels with linear interpolation between \
+         (`fixshade::raster::perspective`; Phong then renormalises and lights every \
+         pixel, adaptive shading corrects both kinds of triangle, the quadratic \
+         surface stays in screen space). Depth needs no correction (the buffer \
          holds the projection's z/w, which is affine in screen space). NMSE and \
          the largest 8-bit channel error are against the perspective-correct f64 \
          reference of the same scene; time is relative to the screen-space frame \
          (paired runs).\n"
     );
     for name in PERSPECTIVE_SCENES {
-        let what = if *name == "ground-plane" {
-            "two large triangles"
-        } else {
-            "the same plane as 2 048 small triangles"
+        let what = match *name {
+            "ground-plane" => "Gouraud, two large triangles",
+            "ground-fine" => "Gouraud, the same plane as 2 048 small triangles",
+            "ground-plane-phong" => "Phong, a specular point light, two large triangles",
+            _ => "Phong, the same plane as 2 048 small triangles",
         };
         let _ = writeln!(m, "`{name}` ({what}):\n");
         let _ = writeln!(
