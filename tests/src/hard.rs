@@ -168,6 +168,27 @@ fn window(c: &Case) -> Window {
 }
 
 /// The pixels the flat `gradient` draw of `t` covers in a case's target.
+/// A fill without depth test wrote exactly the pixels `want` (those of the flat
+/// `gradient` draw) and reported their number `n`.
+fn same_coverage(
+    want: &[bool],
+    col: &[Option<[i32; 3]>],
+    n: u32,
+    what: &str,
+    f: &mut Figures,
+) -> Result<(), String> {
+    let got: Vec<bool> = col.iter().map(|p| p.is_some()).collect();
+    if got != want {
+        return Err(format!("{what}: covers other pixels than gradient"));
+    }
+    let covered = got.iter().filter(|b| **b).count() as u32;
+    if covered != n {
+        return Err(format!("{what}: reported {n} pixels, wrote {covered}"));
+    }
+    f.coverage_checks += got.len() as u64;
+    Ok(())
+}
+
 fn gradient_coverage(c: &Case, t: &[ScreenVertex; 3]) -> Vec<bool> {
     use fixshade::raster::span::Gradient;
     let mut g = guarded::<Count>(c, false, 0, 0);
@@ -494,15 +515,7 @@ pub fn check_phong(c: &Case) -> Result<Figures, String> {
                 return Err(format!("{what}: channel out of range: {p:?}"));
             }
             if !depth {
-                let got: Vec<bool> = col.iter().map(|p| p.is_some()).collect();
-                if got != want {
-                    return Err(format!("{what}: covers other pixels than gradient"));
-                }
-                let covered = got.iter().filter(|b| **b).count() as u32;
-                if covered != n {
-                    return Err(format!("{what}: reported {n} pixels, wrote {covered}"));
-                }
-                f.coverage_checks += got.len() as u64;
+                same_coverage(&want, &col, n, &what, &mut f)?;
             }
             if depth && h.depth {
                 depth_errors(
@@ -557,15 +570,20 @@ pub fn check_phong(c: &Case) -> Result<Figures, String> {
 /// count it reports; with in-range vertex colours, every channel inside the range of
 /// the vertex colours (the fill clamps its weights; one step for the output
 /// rounding); depth within 1 of the exact value where the case asks (depth is not
-/// corrected: it is affine in screen space).
+/// corrected: it is affine in screen space). The perspective-correct Phong fill
+/// with the same w and spans (`exact`, with and without depth): no write outside,
+/// the same coverage and count, channels in 0..=255, the same depth bound.
 pub fn check_perspective(c: &Case) -> Result<Figures, String> {
     use fixshade::divide::{Exact, ShiftAdd};
-    use fixshade::raster::perspective::{draw_triangle_perspective, Perspective};
+    use fixshade::raster::perspective::{
+        draw_phong_perspective, draw_triangle_perspective, Perspective,
+    };
     let h = c.holds;
     let mut f = Figures::default();
     let win = window(c);
     for (k, t) in c.tris.iter().enumerate() {
         let want = gradient_coverage(c, t);
+        let pv = phong_vertices(t);
         // Channel range of the vertex colours, in output steps (rounded).
         let range: [(i32, i32); 3] = core::array::from_fn(|ch| {
             let lo = t.iter().map(|v| v.c[ch]).min().unwrap_or(0);
@@ -595,15 +613,7 @@ pub fn check_perspective(c: &Case) -> Result<Figures, String> {
                     intact(&g, &what)?;
                     let col = g.pixels();
                     if !depth {
-                        let got: Vec<bool> = col.iter().map(|p| p.is_some()).collect();
-                        if got != want {
-                            return Err(format!("{what}: covers other pixels than gradient"));
-                        }
-                        let covered = got.iter().filter(|b| **b).count() as u32;
-                        if covered != n {
-                            return Err(format!("{what}: reported {n} pixels, wrote {covered}"));
-                        }
-                        f.coverage_checks += got.len() as u64;
+                        same_coverage(&want, &col, n, &what, &mut f)?;
                     }
                     if colours_valid(t) {
                         for (i, p) in col.iter().enumerate() {
@@ -621,6 +631,43 @@ pub fn check_perspective(c: &Case) -> Result<Figures, String> {
                         }
                     }
                     if depth && h.depth {
+                        depth_errors(&win, &col, &g.depths(), t, &format!("{what} depth"), &mut f)?;
+                    }
+                }
+                // Phong: the same coverage, channels in range, depth as exact.
+                for depth in [false, true] {
+                    let what =
+                        format!("[perspective phong {mname} depth={depth} w={w:?}] triangle {k}");
+                    let mut g = rec(c, depth);
+                    let n = if depth {
+                        draw_phong_perspective::<Rec, _, DepthTest, Exact, _>(
+                            &mut g,
+                            pv,
+                            w,
+                            mode,
+                            &NormalLight,
+                        )
+                    } else {
+                        draw_phong_perspective::<Rec, _, NoDepth, Exact, _>(
+                            &mut g,
+                            pv,
+                            w,
+                            mode,
+                            &NormalLight,
+                        )
+                    };
+                    intact(&g, &what)?;
+                    let col = g.pixels();
+                    if let Some(p) = col
+                        .iter()
+                        .flatten()
+                        .find(|p| !p.iter().all(|ch| (0..=255).contains(ch)))
+                    {
+                        return Err(format!("{what}: channel out of range: {p:?}"));
+                    }
+                    if !depth {
+                        same_coverage(&want, &col, n, &what, &mut f)?;
+                    } else if h.depth {
                         depth_errors(&win, &col, &g.depths(), t, &format!("{what} depth"), &mut f)?;
                     }
                 }

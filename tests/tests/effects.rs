@@ -182,11 +182,34 @@ fn perspective_correction_follows_the_scene_and_the_shading() {
     let e = derive(&off);
     assert!(!e.perspective.value);
     assert!(!effects::apply(&off, &e).desc.perspective_correct);
-    // Phong interpolates affinely: the derived value says so.
-    let mut phong = asked.clone();
-    phong.desc.shading = ShadingName::Phong;
-    let e = derive(&phong);
-    assert!(!e.perspective.value && e.perspective.why.contains("only Gouraud"));
+    // Phong and adaptive shading are corrected too (normals and eye positions);
+    // the explicit override still wins.
+    for shading in [
+        ShadingName::Phong,
+        ShadingName::PhongEvenOdd,
+        ShadingName::Adaptive,
+    ] {
+        let mut phong = asked.clone();
+        phong.desc.shading = shading;
+        let e = derive(&phong);
+        assert!(
+            e.perspective.value && e.perspective.why.contains("asked"),
+            "{shading:?}"
+        );
+        assert!(effects::apply(&phong, &e).desc.perspective_correct);
+        phong.desc.effects = Overrides::parse("-perspective", Source::CommandLine).unwrap();
+        assert!(!derive(&phong).perspective.value, "{shading:?}");
+    }
+    // The quadratic surface, flat shading and sampled Phong are not corrected.
+    let mut quad = asked.clone();
+    quad.desc.shading = ShadingName::Quadratic;
+    let e = derive(&quad);
+    assert!(!e.perspective.value && e.perspective.why.contains("quadratic"));
+    let mut sampled = asked.clone();
+    sampled.desc.shading = ShadingName::Phong;
+    sampled.desc.raycast.sampled = true;
+    let e = derive(&sampled);
+    assert!(!e.perspective.value && e.perspective.why.contains("sampled"));
 }
 
 #[test]

@@ -2,7 +2,9 @@
 //! on`): against the perspective-correct f64 reference on the ground plane (two large
 //! triangles, clipped at the near plane) and its tessellated twin; strips equal the
 //! whole frame; every divider keeps the coverage; screen-space interpolation is what
-//! an orthographic camera already gets.
+//! an orthographic camera already gets. The same for Phong normals and eye positions
+//! (`draw_phong_perspective`) on the Phong twins of the two scenes, and adaptive
+//! shading.
 
 use fixshade::divide::Divide;
 use fixshade_sim::compare::compare;
@@ -119,4 +121,59 @@ fn an_orthographic_camera_gains_nothing() {
     assert_eq!(c.coverage_mismatch, 0);
     // Constant w: the weights are the screen ones, to rounding.
     assert!(c.max_channel_error <= 8, "{}", c.max_channel_error);
+}
+
+#[test]
+fn phong_on_large_triangles_needs_the_correction() {
+    let ls = load("ground-plane-phong");
+    assert_eq!(ls.desc.shading, ShadingName::Phong);
+    let affine = nmse(&with(&ls, false, 1));
+    let on: Vec<f64> = [1, 8, 16, 32]
+        .iter()
+        .map(|&span| nmse(&with(&ls, true, span)))
+        .collect();
+    println!("Phong ground plane: affine {affine:.3e}, perspective 1/8/16/32 {on:?}");
+    // Measured (docs/effects.md): affine 0.61, every 1/8/16/32 pixels 3.8e-4.
+    assert!(affine > 0.1, "{affine}");
+    for n in &on {
+        assert!(*n <= 1e-3, "{n}");
+    }
+}
+
+#[test]
+fn phong_on_small_triangles_errs_little_without_it() {
+    let ls = load("ground-fine-phong");
+    let affine = nmse(&with(&ls, false, 1));
+    let pixel = nmse(&with(&ls, true, 1));
+    println!("tessellated Phong ground plane: affine {affine:.3e}, every pixel {pixel:.3e}");
+    // Measured (docs/effects.md): affine 2.5e-2, every pixel 8.5e-6.
+    assert!(affine > 1e-3, "{affine}");
+    assert!(pixel < 5e-5 && pixel < affine / 100.0, "{pixel} {affine}");
+}
+
+/// The even/odd Phong fill draws as the row fill under perspective correction;
+/// adaptive shading (Phong where the highlight is, Gouraud elsewhere) is corrected
+/// on both kinds of triangle; strips equal the whole frame.
+#[test]
+fn phong_fills_adaptive_and_strips() {
+    let ls = with(&load("ground-plane-phong"), true, 16);
+    let rows = pipeline::render(&ls, None).unwrap();
+    let mut eo = ls.clone();
+    eo.desc.shading = ShadingName::PhongEvenOdd;
+    assert!(pipeline::render(&eo, None).unwrap().bytes == rows.bytes);
+    for rows_n in [1, 7] {
+        let strips = pipeline::render(&ls, Some(rows_n)).unwrap();
+        assert!(strips.bytes == rows.bytes, "strips of {rows_n} rows");
+    }
+    let fine = load("ground-fine-phong");
+    let adaptive: Vec<f64> = [false, true]
+        .iter()
+        .map(|&on| {
+            let mut ad = with(&fine, on, 1);
+            ad.desc.shading = ShadingName::Adaptive;
+            nmse(&ad)
+        })
+        .collect();
+    println!("adaptive, tessellated, affine / perspective: NMSE {adaptive:?}");
+    assert!(adaptive[1] < adaptive[0], "{adaptive:?}");
 }

@@ -60,7 +60,7 @@ use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
-use crate::raster::perspective::{draw_triangle_perspective, Perspective};
+use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{
     self, draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
 };
@@ -445,16 +445,16 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             return Err(RenderError::TargetSizeMismatch);
         }
         if Sh::ADAPTIVE {
-            return self.draw_adaptive::<S::Divider, Z, T>(target);
+            return self.draw_adaptive::<S::Divider, Z, T>(target, None);
         }
         if Sh::QUADRATIC {
             return self.draw_quadratic::<S::Divider, Z, Sh, T>(target);
         }
         if Sh::PER_PIXEL {
             return if Sh::EVEN_ODD {
-                self.draw_phong::<S::Divider, Z, phong::EvenOdd, T>(target, None)
+                self.draw_phong::<S::Divider, Z, phong::EvenOdd, T>(target, None, None)
             } else {
-                self.draw_phong::<S::Divider, Z, phong::Rows, T>(target, None)
+                self.draw_phong::<S::Divider, Z, phong::Rows, T>(target, None, None)
             };
         }
         let mut st = Stats::default();
@@ -540,9 +540,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             return Err(RenderError::NoDepthBuffer);
         }
         if self.scene.depth_test {
-            self.draw_phong::<Exact, DepthTest, phong::Rows, T>(target, Some(sampling))
+            self.draw_phong::<Exact, DepthTest, phong::Rows, T>(target, Some(sampling), None)
         } else {
-            self.draw_phong::<Exact, NoDepth, phong::Rows, T>(target, Some(sampling))
+            self.draw_phong::<Exact, NoDepth, phong::Rows, T>(target, Some(sampling), None)
         }
     }
 
@@ -640,17 +640,26 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     /// The Phong path of [`Frame::draw_with`]: eye-space normals and positions from
     /// the mesh (see [`Frame`]), every covered pixel lit with this frame's
     /// [`LightingSetup`]. Clipped triangles carry normal and position through the
-    /// clipper as six attributes, so they are Phong-shaded too.
+    /// clipper as six attributes, so they are Phong-shaded too. With `persp` the
+    /// attributes are perspective-correct (unless `sampling` is given).
     fn draw_phong<D: Divide, Z: DepthMode, F: PhongFill, T: Target<P>>(
         &self,
         target: &mut T,
         sampling: Option<Sampling>,
+        persp: Option<Perspective>,
     ) -> Result<Stats, RenderError> {
-        // One Phong triangle: (pixels covered, lighting evaluations).
-        let draw = |target: &mut T, v: [PhongVertex; 3], light: &LightingSetup<Sp>| match sampling {
-            None => (draw_phong_div::<P, T, Z, F, D, _>(target, v, light), 0),
-            Some(sm) => draw_phong_sampled::<P, T, Z, _>(target, v, light, sm),
-        };
+        // One Phong triangle with its clip-space w: (pixels covered, evaluations).
+        let draw =
+            |target: &mut T, v: [PhongVertex; 3], w: [i64; 3], light: &LightingSetup<Sp>| match (
+                sampling, persp,
+            ) {
+                (Some(sm), _) => draw_phong_sampled::<P, T, Z, _>(target, v, light, sm),
+                (None, Some(m)) => (
+                    draw_phong_perspective::<P, T, Z, D, _>(target, v, w, m, light),
+                    0,
+                ),
+                (None, None) => (draw_phong_div::<P, T, Z, F, D, _>(target, v, light), 0),
+            };
         let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
@@ -689,7 +698,8 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                             }
                         });
                         st.drawn += 1;
-                        let (px, ev) = draw(target, pv, &light);
+                        let w = clip_w(persp, &prep.clip, pos, *tri);
+                        let (px, ev) = draw(target, pv, w, &light);
                         st.pixels += px;
                         st.evaluations += ev;
                     }
@@ -704,10 +714,16 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                         });
                         let poly = clip_triangle(cv, &self.vp);
                         let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
-                        for (o, v) in pv.iter_mut().zip(poly.v[..poly.len].iter()) {
+                        let mut pw = [1i64; crate::clip::MAX_POLY];
+                        for ((o, ow), v) in pv
+                            .iter_mut()
+                            .zip(pw.iter_mut())
+                            .zip(poly.v[..poly.len].iter())
+                        {
                             let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
                                 continue;
                             };
+                            *ow = v.pos[3];
                             let c = v.c;
                             *o = PhongVertex {
                                 x,
@@ -725,7 +741,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                                 continue;
                             }
                             st.drawn += 1;
-                            let (px, ev) = draw(target, tri, &light);
+                            let (px, ev) = draw(target, tri, [pw[0], pw[k], pw[k + 1]], &light);
                             st.pixels += px;
                             st.evaluations += ev;
                         }
@@ -798,9 +814,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     /// depth are those of [`Frame::draw`] with [`Gradient`]. The depth test follows
     /// the scene.
     ///
-    /// Only Gouraud colours are corrected. Flat shading needs no correction, and the
-    /// quadratic, Phong and adaptive modes draw as [`Frame::draw`] draws them (their
-    /// surfaces and normals interpolate affinely).
+    /// Phong shading interpolates its normals and eye positions perspective-correctly
+    /// ([`crate::raster::perspective::draw_phong_perspective`]; the even/odd fill
+    /// draws as the one-accumulator fill does), and adaptive shading draws its
+    /// Gouraud triangles and its per-pixel ones each through its perspective fill.
+    /// Flat shading needs no correction, and the quadratic surface draws as
+    /// [`Frame::draw`] draws it (its surface interpolates in screen space).
     ///
     /// ```
     /// use fixshade::divide::Exact;
@@ -819,7 +838,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         target: &mut T,
         mode: Perspective,
     ) -> Result<Stats, RenderError> {
-        if self.scene.shading != ShadingMode::Gouraud {
+        use ShadingMode as M;
+        let shading = self.scene.shading;
+        if !matches!(
+            shading,
+            M::Gouraud | M::Phong | M::PhongEvenOdd | M::Adaptive
+        ) {
             return self.draw::<Gradient, T>(target);
         }
         if target.width() != self.vp.width || target.frame_height() != self.vp.height {
@@ -828,11 +852,15 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         if self.scene.depth_test && !target.has_depth() {
             return Err(RenderError::NoDepthBuffer);
         }
-        Ok(if self.scene.depth_test {
-            self.draw_perspective_with::<D, DepthTest, T>(target, mode)
-        } else {
-            self.draw_perspective_with::<D, NoDepth, T>(target, mode)
-        })
+        let m = Some(mode);
+        match (shading, self.scene.depth_test) {
+            (M::Gouraud, true) => Ok(self.draw_perspective_with::<D, DepthTest, T>(target, mode)),
+            (M::Gouraud, false) => Ok(self.draw_perspective_with::<D, NoDepth, T>(target, mode)),
+            (M::Adaptive, true) => self.draw_adaptive::<D, DepthTest, T>(target, m),
+            (M::Adaptive, false) => self.draw_adaptive::<D, NoDepth, T>(target, m),
+            (_, true) => self.draw_phong::<D, DepthTest, phong::Rows, T>(target, None, m),
+            (_, false) => self.draw_phong::<D, NoDepth, phong::Rows, T>(target, None, m),
+        }
     }
 
     fn draw_perspective_with<D: Divide, Z: DepthMode, T: Target<P>>(
@@ -873,6 +901,15 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             }
         }
         st
+    }
+}
+
+/// The clip-space w of the mesh triangle `tri` under `clip` when `persp` asks for
+/// perspective correction (the vertex cache keeps none); else unused, `[1; 3]`.
+fn clip_w(persp: Option<Perspective>, clip: &ClipMatrix, pos: &[Vec3], tri: [u16; 3]) -> [i64; 3] {
+    match persp {
+        Some(_) => tri.map(|i| clip.transform(&pos[i as usize])[3]),
+        None => [1; 3],
     }
 }
 

@@ -323,8 +323,9 @@ pub struct SceneDesc {
     pub cull_back: bool,
     /// Use the u16 depth buffer.
     pub depth_test: bool,
-    /// Perspective-correct instead of screen-affine interpolation of Gouraud colours,
-    /// in the fixed-point renderer and in the reference.
+    /// Perspective-correct instead of screen-affine interpolation of Gouraud colours
+    /// and Phong normals and eye positions, in the fixed-point renderer and in the
+    /// reference.
     pub perspective_correct: bool,
     /// Pixels per perspective division of the fixed-point renderer: 1 (every pixel)
     /// or a power of two up to 64 (sub-spans interpolated linearly).

@@ -52,7 +52,7 @@ pub enum Effect {
     Lighting,
     /// The local viewer.
     LocalViewer,
-    /// Perspective-correct interpolation of Gouraud colours.
+    /// Perspective-correct interpolation of Gouraud colours and Phong normals.
     Perspective,
 }
 
@@ -155,7 +155,7 @@ pub struct Effects {
     pub lights: Setting<(usize, usize)>,
     /// Local viewer.
     pub local_viewer: Setting<bool>,
-    /// Perspective-correct interpolation of Gouraud colours.
+    /// Perspective-correct interpolation of Gouraud colours and Phong normals.
     pub perspective: Setting<bool>,
 }
 
@@ -345,17 +345,22 @@ pub fn derive(ls: &LoadedScene) -> Result<Effects, String> {
     if let Some((on, src)) = forced(Effect::Perspective) {
         perspective = set(on, src.why());
     }
-    // Only Gouraud colours are corrected.
-    if perspective.value && shading.value != ShadingName::Gouraud {
-        perspective = set(
-            false,
-            if shading.value == ShadingName::Flat {
-                "flat shading: one colour per triangle, nothing to correct"
-            } else {
-                "only Gouraud colours are corrected: the quadratic surface and Phong \
-                 normals interpolate in screen space"
-            },
-        );
+    // Gouraud colours and Phong normals and positions are corrected.
+    let corrected = match shading.value {
+        ShadingName::Gouraud | ShadingName::PhongEvenOdd | ShadingName::Adaptive => Ok(()),
+        ShadingName::Phong if !d.raycast.sampled => Ok(()),
+        ShadingName::Phong => Err(
+            "sampled Phong lighting (the segment sampler): its attributes interpolate in \
+             screen space",
+        ),
+        ShadingName::Flat => Err("flat shading: one colour per triangle, nothing to correct"),
+        ShadingName::Quadratic => {
+            Err("the quadratic surface interpolates in screen space (not corrected)")
+        }
+        ShadingName::Raycast => Err("ray casting: each pixel is cast, nothing to correct"),
+    };
+    if let (true, Err(why)) = (perspective.value, corrected) {
+        perspective = set(false, why);
     }
 
     Ok(Effects {
@@ -551,8 +556,14 @@ pub const TABLE_SCENES: &[&str] = &[
 ];
 
 /// The scenes of the perspective-correction section: one large plane of two
-/// triangles, and the same plane as a 32 × 32 grid.
-pub const PERSPECTIVE_SCENES: &[&str] = &["ground-plane", "ground-fine"];
+/// triangles, and the same plane as a 32 × 32 grid; Gouraud, and Phong with a
+/// specular point light.
+pub const PERSPECTIVE_SCENES: &[&str] = &[
+    "ground-plane",
+    "ground-fine",
+    "ground-plane-phong",
+    "ground-fine-phong",
+];
 
 /// One configuration of the perspective-correction section.
 #[derive(Clone, Debug)]
@@ -773,22 +784,26 @@ fn table_markdown(pairs: usize, runs: usize, quick: bool) -> Result<String, Stri
     let _ = writeln!(m, "## Perspective correction\n");
     let _ = writeln!(
         m,
-        "Gouraud colours interpolated in screen space (the seeds' methods) against \
-         perspective-correct ones (`perspective_correct = true`, `--perspective on`): \
-         the screen-affine weights `b_i` become `(b_i/w_i) / Σ b_j/w_j`, three planes \
-         per triangle and one reciprocal wherever the colour is sampled, every pixel \
-         or every `perspective_span` pixels with linear interpolation between \
-         (`fixshade::raster::perspective`). Depth needs no correction (the buffer \
+        "Gouraud colours and Phong normals and eye positions interpolated in screen \
+         space (the seeds' methods) against perspective-correct ones \
+         (`perspective_correct = true`, `--perspective on`): the screen-affine \
+         weights `b_i` become `(b_i/w_i) / Σ b_j/w_j`, three planes per triangle and \
+         one reciprocal wherever the attributes are sampled, every pixel or every \
+         `perspective_span` pixels with linear interpolation between \
+         (`fixshade::raster::perspective`; Phong then renormalises and lights every \
+         pixel, adaptive shading corrects both kinds of triangle, the quadratic \
+         surface stays in screen space). Depth needs no correction (the buffer \
          holds the projection's z/w, which is affine in screen space). NMSE and \
          the largest 8-bit channel error are against the perspective-correct f64 \
          reference of the same scene; time is relative to the screen-space frame \
          (paired runs).\n"
     );
     for name in PERSPECTIVE_SCENES {
-        let what = if *name == "ground-plane" {
-            "two large triangles"
-        } else {
-            "the same plane as 2 048 small triangles"
+        let what = match *name {
+            "ground-plane" => "Gouraud, two large triangles",
+            "ground-fine" => "Gouraud, the same plane as 2 048 small triangles",
+            "ground-plane-phong" => "Phong, a specular point light, two large triangles",
+            _ => "Phong, the same plane as 2 048 small triangles",
         };
         let _ = writeln!(m, "`{name}` ({what}):\n");
         let _ = writeln!(
@@ -855,12 +870,12 @@ as written (tested in `tests/tests/effects.rs`):
 | depth test | one convex mesh with back-face culling | off (front faces of a convex surface never overlap) |
 | depth test, culling | otherwise | as the scene file sets them |
 | perspective correction | orthographic camera | off (screen-space interpolation is exact) |
-| perspective correction | perspective camera | as the scene sets `perspective_correct` (default off: the seeds' screen-space Gouraud); on: Gouraud colours through one reciprocal per `perspective_span` pixels |
-| perspective correction | flat, quadratic, Phong or adaptive shading | off (flat has nothing to correct; the quadratic surface and Phong normals interpolate in screen space) |
+| perspective correction | perspective camera | as the scene sets `perspective_correct` (default off: the seeds' screen-space interpolation); on: Gouraud colours, Phong normals and eye positions (adaptive: both) through one reciprocal per `perspective_span` pixels |
+| perspective correction | flat, quadratic or ray-cast shading, sampled Phong | off (flat and ray casting have nothing to correct; the quadratic surface and the segment sampler interpolate in screen space) |
 
 Forced settings (`+NAME`/`-NAME`, NAME: `depth`, `cull`, `specular`, `lighting`, \
 `local-viewer`, `perspective`) win over the rules; `-specular` drops the highlights, \
-`-lighting` draws unlit, `+perspective` corrects Gouraud colours.
+`-lighting` draws unlit, `+perspective` corrects Gouraud colours and Phong normals.
 
 Adaptive shading bounds the specular term over each triangle \
 (`LightingSetup::specular_bound`: the vertex normals in a cone around their \

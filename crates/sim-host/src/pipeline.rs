@@ -375,7 +375,8 @@ macro_rules! with_specular_divide {
 /// Draws a prepared frame with the scene's span method (dividing as `Sd` says), with
 /// sampled Phong lighting when the scene asks for Phong with a segment sampler
 /// ([`crate::raycast::RaycastDesc::sampled`]), or with perspective-correct colours
-/// when a Gouraud scene asks for them (coverage then follows `gradient`).
+/// or normals when a Gouraud, Phong or adaptive scene asks for them (coverage then
+/// follows `gradient`).
 fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
     frame: &Frame<'_, '_, '_, P, Sp>,
     d: &SceneDesc,
@@ -393,7 +394,7 @@ fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
             .draw_phong_sampled(fb, sampling)
             .map_err(|e| e.to_string());
     }
-    if d.perspective_correct && d.shading == ShadingName::Gouraud {
+    if d.perspective_correct && perspective_shading(d.shading) {
         let mode = Perspective::new(d.perspective_span).ok_or_else(|| {
             format!(
                 "perspective span {} is not a power of two from 1 to 64",
@@ -403,6 +404,18 @@ fn span_dispatch<Sd: SpanDispatch, P: PixelFormat, Sp: Specular>(
         return Sd::perspective(frame, mode, fb);
     }
     Sd::dispatch(frame, d.span, fb)
+}
+
+/// True for the shadings [`Frame::draw_perspective`] corrects: Gouraud colours,
+/// Phong normals and positions, adaptive (both).
+fn perspective_shading(s: ShadingName) -> bool {
+    matches!(
+        s,
+        ShadingName::Gouraud
+            | ShadingName::Phong
+            | ShadingName::PhongEvenOdd
+            | ShadingName::Adaptive
+    )
 }
 
 /// True if the frame needs the specular term: some light and some material have a
@@ -503,7 +516,7 @@ fn coverage(ls: &LoadedScene) -> Result<Vec<bool>, String> {
     // The same span method as the colour pass: methods that move vertices
     // (sierpinski) change coverage too. The quadratic surface and Phong have their
     // own fills, which ignore the span method and cover what `gradient` covers.
-    let perspective = d.perspective_correct && d.shading == ShadingName::Gouraud;
+    let perspective = d.perspective_correct && perspective_shading(d.shading);
     if perspective
         || matches!(
             d.shading,

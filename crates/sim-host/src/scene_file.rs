@@ -37,7 +37,7 @@
 //! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal (of every shading: Gouraud, quadratic, Phong, adaptive), the perspective division and Schlick's denominator; `exact` keeps the full-precision divisions) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
-//! | `perspective_correct` | boolean | `false` | perspective-correct Gouraud colours (the fixed-point renderer and the reference; flat needs none, the quadratic surface and Phong interpolate affinely); see docs/effects.md |
+//! | `perspective_correct` | boolean | `false` | perspective-correct Gouraud colours and Phong normals and eye positions, adaptive both (the fixed-point renderer and the reference; flat needs none, the quadratic surface and sampled Phong interpolate affinely); see docs/effects.md |
 //! | `perspective_span` | integer | 16 | 1, 2, 4, …, 64: pixels per perspective division of the fixed-point renderer (1: every pixel; otherwise linear in between) |
 //! | `segment` | integer | 8 | 1..=256; `raycast`, and `phong` when given: segment length L of the pixel-segment sampler (1: every pixel; Phong samples within pieces of 64 pixels of a span) |
 //! | `threshold` | number | 2.3 | 0..=256; `raycast`, and `phong` when given: K, the largest channel difference (8-bit levels) of two segment ends that still interpolates |

@@ -171,7 +171,7 @@ impl PhongFill for EvenOdd {
 }
 
 /// Number of interpolated Phong attributes: normal (3) and eye position (3).
-const PA: usize = 6;
+pub(super) const PA: usize = 6;
 
 /// The Phong attribute planes of a triangle, 16 extra fraction bits, wrapping `i64`.
 struct Planes {
@@ -181,7 +181,7 @@ struct Planes {
     a: [i64; PA],
 }
 
-fn attrs(v: &PhongVertex) -> [i64; PA] {
+pub(super) fn attrs(v: &PhongVertex) -> [i64; PA] {
     [
         v.n[0] as i64,
         v.n[1] as i64,
@@ -239,7 +239,7 @@ impl Planes {
 
 /// Lights one pixel from its lattice values and stores it (the depth test has passed).
 #[inline(always)]
-fn shade_pixel<P: PixelFormat, L: PixelLight>(c: &mut P::Raw, a: &[i64; PA], light: &L) {
+pub(super) fn shade_pixel<P: PixelFormat, L: PixelLight>(c: &mut P::Raw, a: &[i64; PA], light: &L) {
     let [r, g, b] = lit_channels::<P, L>(a, light);
     P::store(c, P::pack(r, g, b));
 }
@@ -263,7 +263,7 @@ fn lit_channels<P: PixelFormat, L: PixelLight>(a: &[i64; PA], light: &L) -> [u32
 
 /// Depth test for one pixel (strictly nearer wins); writes the depth when it passes.
 #[inline(always)]
-fn depth_pass<Z: DepthMode>(d: Option<&mut u16>, z: i32) -> bool {
+pub(super) fn depth_pass<Z: DepthMode>(d: Option<&mut u16>, z: i32) -> bool {
     match d {
         Some(d) if Z::TEST => {
             let zz = depth_of(z);

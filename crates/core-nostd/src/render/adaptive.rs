@@ -10,13 +10,16 @@
 //! bound reaches [`DIFFUSE_STEPS`] steps is lit per pixel as well. Both bounds share
 //! one cone of the vertex normals. Gouraud triangles take the vertex colours lit by
 //! the vertex stage; triangles that go through the clipper are always Phong-shaded.
+//! With perspective correction each kind of triangle goes through its perspective
+//! fill ([`crate::raster::perspective`]); the choice between them is the same.
 
-use super::{classify, eye_normal, project_clamped, Class, Frame, RenderError, Stats};
+use super::{classify, clip_w, eye_normal, project_clamped, Class, Frame, RenderError, Stats};
 use crate::clip::{clip_triangle, is_front, ClipVertex};
 use crate::divide::Divide;
 use crate::light::{LightingSetup, Specular};
 use crate::math::Affine3;
 use crate::raster::draw_triangle;
+use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{draw_phong_div, PhongVertex, Rows};
 use crate::raster::span::{DepthMode, Gradient, WithDivide};
 use crate::shade::Gouraud;
@@ -40,11 +43,21 @@ fn half_step<P: PixelFormat>() -> i64 {
 }
 
 impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
-    /// The adaptive path of [`Frame::draw_with`].
+    /// The adaptive path of [`Frame::draw_with`], perspective-correct with `persp`
+    /// ([`Frame::draw_perspective`]).
     pub(super) fn draw_adaptive<D: Divide, Z: DepthMode, T: Target<P>>(
         &self,
         target: &mut T,
+        persp: Option<Perspective>,
     ) -> Result<Stats, RenderError> {
+        // One Phong triangle with its clip-space w.
+        let phong =
+            |target: &mut T, v: [PhongVertex; 3], w: [i64; 3], light: &LightingSetup<Sp>| {
+                match persp {
+                    Some(m) => draw_phong_perspective::<P, T, Z, D, _>(target, v, w, m, light),
+                    None => draw_phong_div::<P, T, Z, Rows, D, _>(target, v, light),
+                }
+            };
         let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
@@ -78,10 +91,17 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                     let n = e.map(|v| v.0);
                     let p = e.map(|v| v.1);
                     st.drawn += 1;
+                    let w = clip_w(persp, &prep.clip, pos, *tri);
                     if light.within_bounds(&n, &p, limit, DIFFUSE_STEPS * 2 * limit) {
                         let s = [t[0].s, t[1].s, t[2].s];
-                        st.pixels +=
-                            draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(target, s);
+                        st.pixels += match persp {
+                            Some(m) => {
+                                draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, m)
+                            }
+                            None => draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(
+                                target, s,
+                            ),
+                        };
                     } else {
                         st.per_pixel += 1;
                         let pv = core::array::from_fn(|k| {
@@ -94,7 +114,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                                 p: e[k].1,
                             }
                         });
-                        st.pixels += draw_phong_div::<P, T, Z, Rows, D, _>(target, pv, &light);
+                        st.pixels += phong(target, pv, w, &light);
                     }
                     continue;
                 }
@@ -110,10 +130,16 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                 });
                 let poly = clip_triangle(cv, &self.vp);
                 let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
-                for (o, v) in pv.iter_mut().zip(poly.v[..poly.len].iter()) {
+                let mut pw = [1i64; crate::clip::MAX_POLY];
+                for ((o, ow), v) in pv
+                    .iter_mut()
+                    .zip(pw.iter_mut())
+                    .zip(poly.v[..poly.len].iter())
+                {
                     let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
                         continue;
                     };
+                    *ow = v.pos[3];
                     let c = v.c;
                     *o = PhongVertex {
                         x,
@@ -131,7 +157,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                         continue;
                     }
                     st.drawn += 1;
-                    st.pixels += draw_phong_div::<P, T, Z, Rows, D, _>(target, tri, &light);
+                    st.pixels += phong(target, tri, [pw[0], pw[k], pw[k + 1]], &light);
                 }
             }
         }
