@@ -24,7 +24,8 @@ USAGE:
                                   are derived from the scene; --effects forces some on
                                   or off (e.g. -depth,+specular; names: depth, cull,
                                   specular, lighting, local-viewer, perspective);
-                                  --perspective on corrects Gouraud colours for
+                                  --perspective on corrects Gouraud colours and
+                                  Phong normals and positions (adaptive: both) for
                                   perspective, one division per N pixels (1..64,
                                   default 16);
                                   --explain prints each effect, the rule that chose it
