@@ -118,8 +118,7 @@ fn baked_scene_files_match_their_source() {
     let mut stale = Vec::new();
     for (file, input) in BAKED_FILES {
         let command = format!("fixshade bake {input}");
-        let ls = fixshade_sim::pipeline::load_arg(&root.join(input).display().to_string())
-            .unwrap();
+        let ls = fixshade_sim::pipeline::load_arg(&root.join(input).display().to_string()).unwrap();
         let b = fixshade_sim::bake::bake_loaded(input, Some(&ls.desc), &ls.fixed, None, &command)
             .unwrap();
         let path = root.join("boards/baked").join(file);

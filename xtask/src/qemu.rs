@@ -857,7 +857,7 @@ fn tables(
         );
     }
     md.push_str(&dividers::section(rows));
-    md.push_str(&perspective::section(rows));
+    md.push_str(&perspective::section(rows, sizes));
     if !calibration.is_empty() {
         md.push_str("\n## Counter calibration\n\n`CALIBRATE board empty measured expected`: the counter around nothing, and around a loop of\nexactly `expected` instructions. `STACK board bytes`: peak stack (painted RAM).\n\n```text\n");
         for l in calibration {

@@ -248,8 +248,7 @@ fn run() -> Result<(), &'static str> {
     let table =
         fixshade_boards_common::quick_divider_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
     #[cfg(feature = "perspective")]
-    let table =
-        fixshade_boards_common::perspective_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::perspective_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
     #[cfg(feature = "dividers1")]
     let table =
         fixshade_boards_common::more_divider_cases_1::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();

@@ -37,8 +37,6 @@ use fixshade_boards_common::cases;
 use fixshade_boards_common::SceneSettings;
 use fixshade_boards_common::{Counter, FrameLog};
 use semihosting::io::Write as _;
-#[cfg(feature = "perspective")]
-use {fixshade::scene::ShadingMode, fixshade_boards_common::perspective_cases};
 #[cfg(feature = "dividers")]
 use {
     fixshade::raster::span::DepthTest,
@@ -46,6 +44,8 @@ use {
     fixshade::shade::Gouraud,
     fixshade_boards_common::{divider_cases, Fixed},
 };
+#[cfg(feature = "perspective")]
+use {fixshade::scene::ShadingMode, fixshade_boards_common::perspective_cases};
 
 /// The built-in scenes, baked by `fixshade bake` (see `boards/baked/README.md`).
 mod baked {

@@ -44,7 +44,11 @@ fn render_chunked_draws_perspective_correct_colours() {
             let cut = render_chunked(&ls, 64, 2).unwrap();
             // The whole-frame render's pixels, strips of 2 rows and 64-vertex chunks
             // notwithstanding ...
-            assert_eq!(cut, pipeline::render(&ls, None).unwrap().bytes, "{d:?} {span}");
+            assert_eq!(
+                cut,
+                pipeline::render(&ls, None).unwrap().bytes,
+                "{d:?} {span}"
+            );
             // ... which are not the affine fill's, and depend on the sub-span.
             assert_ne!(cut, affine, "{d:?} {span}");
             seen.push(cut);

@@ -135,7 +135,7 @@ pub(super) fn check(rows: &[FrameRow]) -> Result<(), String> {
 
 /// The markdown section: per board and figure, each case against the same image's
 /// affine `gradient`.
-pub(super) fn section(rows: &[FrameRow]) -> String {
+pub(super) fn section(rows: &[FrameRow], sizes: &[(String, u64, u64)]) -> String {
     let here: Vec<&FrameRow> = rows.iter().filter(|r| is_case(&r.case)).collect();
     if here.is_empty() {
         return String::new();
@@ -194,5 +194,55 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
             );
         }
     }
+    md.push_str(&m0_room(sizes));
+    md
+}
+
+/// What the Cortex-M0 leaves out, from the measured image sizes: the perspective
+/// fill's flash (the sphere's perspective image minus its span image) against the
+/// room the scene images leave.
+fn m0_room(sizes: &[(String, u64, u64)]) -> String {
+    const FLASH: u64 = 256 * 1024;
+    let flash = |label: &str| sizes.iter().find(|s| s.0 == label).map(|s| s.1);
+    let (Some(persp), Some(spans)) = (
+        flash("qemu-microbit (sphere,perspective)"),
+        flash("qemu-microbit (sphere)"),
+    ) else {
+        return String::new();
+    };
+    let fill = persp.saturating_sub(spans);
+    let others = ["teapot", "robot"]
+        .iter()
+        .filter_map(|f| Some((*f, flash(&format!("qemu-microbit ({f})"))?)))
+        .map(|(f, b)| format!("{f} {b} B + {fill} B = {} B", b + fill))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut md = format!(
+        "\nOn the Cortex-M0 the perspective image of the sphere takes {persp} B of the {FLASH} B\n\
+         of flash, {fill} B more than the sphere's span-method image ({spans} B). Teapot and\n\
+         robot are not drawn, to keep the task's time down; by the same difference their\n\
+         images would take about {others} (estimated, not built). The scene catalogue's\n\
+         Cortex-M0 images draw no perspective-correct frames. Free flash of their Gouraud\n\
+         images against the {fill} B the fill added to the sphere's image (the fill, and\n\
+         `Frame::draw`'s fallback for the other shading modes, which `draw_perspective`\n\
+         carries): "
+    );
+    let list = sizes
+        .iter()
+        .filter(|s| s.0.starts_with("qemu-microbit (scenes") && !s.0.contains("flat"))
+        .map(|(l, f, _)| {
+            let free = FLASH.saturating_sub(*f);
+            format!(
+                "{l} {free} B free ({})",
+                if free > fill {
+                    "room for it, not done"
+                } else {
+                    "no room"
+                }
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    let _ = writeln!(md, "{list}.");
     md
 }

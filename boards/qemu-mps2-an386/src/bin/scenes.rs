@@ -155,13 +155,9 @@ fn run() -> Result<(), &'static str> {
             };
             log.add(stats)?;
             let mut name = [0u8; 96];
-            let mut f = semihosting::fs::File::create(file_name(
-                &mut name,
-                case.name,
-                "gouraud",
-                span,
-            ))
-            .map_err(|_| "cannot create the frame file")?;
+            let mut f =
+                semihosting::fs::File::create(file_name(&mut name, case.name, "gouraud", span))
+                    .map_err(|_| "cannot create the frame file")?;
             f.write_all(as_bytes(fb.color()))
                 .map_err(|_| "cannot write the frame file")?;
             log.write(BOARD, case.name, "gouraud", span);
