@@ -101,3 +101,37 @@ fn baked_scene_catalogue_is_current() {
         stale.join("\n")
     );
 }
+
+/// Scene files baked for the firmware by path, from the workspace root: (file under
+/// boards/baked, scene file).
+const BAKED_FILES: &[(&str, &str)] = &[(
+    "full/ground_plane.rs",
+    "crates/sim-host/scenes/effects/ground-plane.toml",
+)];
+
+/// As [`baked_scenes_match_their_source`], for the scene files the perspective
+/// images draw (`fixshade bake FILE` run in the workspace root).
+#[test]
+fn baked_scene_files_match_their_source() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let bless = std::env::var_os("FIXSHADE_BLESS").is_some();
+    let mut stale = Vec::new();
+    for (file, input) in BAKED_FILES {
+        let command = format!("fixshade bake {input}");
+        let ls = fixshade_sim::pipeline::load_arg(&root.join(input).display().to_string()).unwrap();
+        let b = fixshade_sim::bake::bake_loaded(input, Some(&ls.desc), &ls.fixed, None, &command)
+            .unwrap();
+        let path = root.join("boards/baked").join(file);
+        if bless {
+            std::fs::write(&path, &b.source).unwrap();
+            continue;
+        }
+        if std::fs::read_to_string(&path).unwrap_or_default() != b.source {
+            stale.push(format!(
+                "{} (regenerate: {command} -o boards/baked/{file})",
+                path.display()
+            ));
+        }
+    }
+    assert!(stale.is_empty(), "stale baked files:\n{}", stale.join("\n"));
+}

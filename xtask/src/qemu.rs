@@ -21,6 +21,7 @@ use fixshade_sim::bake::render_chunked;
 use fixshade_sim::pipeline::{self, LoadedScene};
 
 mod dividers;
+mod perspective;
 
 /// One firmware image: the board crate, cargo features, the QEMU machine.
 struct Image {
@@ -417,12 +418,17 @@ fn host_frame(
     cut: Option<(u32, usize)>,
 ) -> Result<Vec<u8>, String> {
     if !scenes.contains_key(figure) {
-        scenes.insert(figure.to_string(), pipeline::load_arg(figure)?);
+        scenes.insert(
+            figure.to_string(),
+            pipeline::load_arg(&perspective::source(figure))?,
+        );
     }
     let mut ls = scenes[figure].clone();
     ls.desc.width = w;
     ls.desc.height = h;
-    dividers::apply(&mut ls.desc, case)?;
+    if !perspective::apply(&mut ls.desc, case)? {
+        dividers::apply(&mut ls.desc, case)?;
+    }
     match cut {
         None => Ok(pipeline::render(&ls, None)?.bytes),
         Some((rows, chunk)) => render_chunked(&ls, chunk, rows),
@@ -499,7 +505,11 @@ pub fn qemu() -> Result<(), String> {
         (0, Vec::new(), Vec::new());
     let (mut ray_frames, mut ray_rows) = (0, Vec::new());
     let mut scene_checked = crate::scenes::Checked::default();
-    for img in IMAGES.iter().chain(dividers::IMAGES) {
+    for img in IMAGES
+        .iter()
+        .chain(dividers::IMAGES)
+        .chain(perspective::IMAGES)
+    {
         let dir = root.join("boards").join(img.krate);
         cargo_build(
             &dir,
@@ -652,6 +662,7 @@ pub fn qemu() -> Result<(), String> {
             rows.push(r);
         }
     }
+    perspective::check(&rows)?;
     let (mut md, csv) = tables(&rows, &setup_lines, &sizes, &calibration);
     md.push_str(&catalogue_table(
         catalogue_frames,
@@ -798,7 +809,8 @@ fn tables(
     }
     let mut key = None;
     for r in rows {
-        let (method, divide, sweep) = dividers::csv_names(&r.case);
+        let (method, divide, sweep) =
+            perspective::csv_names(&r.case).unwrap_or_else(|| dividers::csv_names(&r.case));
         let _ = writeln!(
             csv,
             "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep}",
@@ -845,6 +857,7 @@ fn tables(
         );
     }
     md.push_str(&dividers::section(rows));
+    md.push_str(&perspective::section(rows, sizes));
     if !calibration.is_empty() {
         md.push_str("\n## Counter calibration\n\n`CALIBRATE board empty measured expected`: the counter around nothing, and around a loop of\nexactly `expected` instructions. `STACK board bytes`: peak stack (painted RAM).\n\n```text\n");
         for l in calibration {

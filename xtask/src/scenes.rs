@@ -51,6 +51,12 @@ pub fn host_chunked(ls: &LoadedScene, limit: usize, rows: u32) -> Result<Vec<u8>
     if d.format != FormatName::Rgb565Le {
         return Err(format!("{}: the scene images draw rgb565le only", ls.name));
     }
+    if d.perspective_correct && d.shading == ShadingName::Gouraud {
+        return Err(format!(
+            "{}: the strip-and-chunk scene images draw no perspective-correct frames",
+            ls.name
+        ));
+    }
     let (w, h) = (d.width, d.height);
     let rows = rows.clamp(1, h);
     let mut parts: Vec<(usize, FixedMesh)> = Vec::new();
@@ -109,6 +115,18 @@ pub fn host_chunked(ls: &LoadedScene, limit: usize, rows: u32) -> Result<Vec<u8>
         y0 += hh;
     }
     Ok(out)
+}
+
+/// The boards whose scene images draw perspective-correct Gouraud frames (span
+/// names `perspective-N`) for every case with a perspective camera.
+const PERSPECTIVE_BOARDS: &[&str] = &["mps2-an386"];
+
+/// The perspective spans those images draw.
+const PERSPECTIVE_SPANS: &[&str] = &["perspective-1", "perspective-16"];
+
+/// `perspective-N` → `N`.
+fn perspective_span(span: &str) -> Option<u32> {
+    span.strip_prefix("perspective-")?.parse().ok()
 }
 
 /// One `SCENE` line.
@@ -209,7 +227,16 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
             ));
         }
         ls.desc.shading = ShadingName::parse(&r.shading)?;
-        ls.desc.span = SpanName::parse(&r.span)?;
+        match perspective_span(&r.span) {
+            // `fixshade render --perspective on --perspective-span N` (coverage of
+            // `gradient`, the scene's divider).
+            Some(n) => {
+                ls.desc.span = SpanName::Gradient;
+                ls.desc.perspective_correct = true;
+                ls.desc.perspective_span = n;
+            }
+            None => ls.desc.span = SpanName::parse(&r.span)?,
+        }
         let whole = pipeline::render(&ls, None)?.bytes;
         let host = if r.chunk == 0 && r.rows == 0 {
             whole
@@ -332,6 +359,23 @@ pub fn finish(c: &Checked) -> Result<String, String> {
                     }
                 }
             }
+            let perspective_camera = drawn
+                && PERSPECTIVE_BOARDS.contains(board)
+                && matches!(
+                    case.load()?.desc.camera.projection,
+                    fixshade_sim::desc::Projection::Perspective { .. }
+                );
+            for span in PERSPECTIVE_SPANS.iter().filter(|_| perspective_camera) {
+                let have = c.seen.iter().any(|(b, n, sh, sp)| {
+                    b == board && *n == case.name && sh == "gouraud" && sp == span
+                });
+                if !have {
+                    return Err(format!(
+                        "{board}: scene case {}: no perspective-correct Gouraud frame {span}",
+                        case.name
+                    ));
+                }
+            }
             if drawn == skipped {
                 return Err(format!(
                     "{board}: scene case {}: {}",
@@ -369,8 +413,10 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
          Every case of tests/catalogue/scenes.toml (baked into boards/baked/scenes/ by\n\
          `cargo xtask bake-scenes`) rendered by the scene images with every span method in\n\
          flat and Gouraud shading (and on the Cortex-M4 once more in quadratic, Phong,\n\
-         Phong even/odd and adaptive shading, whose fills ignore the span method) and\n\
-         compared byte for byte with the host render of the same case, method, shading and\n\
+         Phong even/odd and adaptive shading, whose fills ignore the span method; and for\n\
+         the cases with a perspective camera in Gouraud shading with perspective-correct\n\
+         colours, `Frame::draw_perspective` with `exact` at every pixel and per 16 pixels,\n\
+         spans `perspective-1` and `perspective-16`) and compared byte for byte with the host render of the same case, method, shading and\n\
          layout: {frames} frames, all identical. The Cortex-M4 draws whole frames from whole\n\
          meshes (compared with `pipeline::render`); the Cortex-M0 draws strips of `strip rows`\n\
          rows and meshes in chunks of at most `chunk` vertices (compared with the host\n\

@@ -25,6 +25,7 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use fixshade::divide::{Divide, Exact, ShiftAdd, ShiftAddRounded, Table};
 use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
+use fixshade::raster::perspective::Perspective;
 use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
 use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats};
@@ -404,6 +405,47 @@ pub fn more_divider_cases_4<M: Mode, P: PixelFormat, T: Target<P>>(
         ShiftAddRounded<15> => "shift-add-rounded-15",
         ShiftAddRounded<16> => "shift-add-rounded-16",
     )
+}
+
+/// Number of cases in [`perspective_cases`].
+pub const PERSPECTIVE_CASES: usize = 5;
+
+/// [`Frame::draw_perspective`] with divider `D` and one division per `SPAN` pixels
+/// (a power of two up to 64, checked at compile time).
+fn perspective_entry<D: Divide, const SPAN: u32, P: PixelFormat, T: Target<P>>(
+    f: &Frame<'_, '_, '_, P>,
+    t: &mut T,
+) -> Result<Stats, RenderError> {
+    let mode = const {
+        match Perspective::new(SPAN) {
+            Some(m) => m,
+            None => panic!("perspective span: a power of two up to 64"),
+        }
+    };
+    f.draw_perspective::<D, T>(t, mode)
+}
+
+/// Perspective-correct Gouraud colours (`fixshade render --perspective on
+/// --perspective-span N --divide NAME`), named `perspective-N@NAME`: every pixel and
+/// sub-spans of 16, with `exact` and `shift-add-8`; and first `affine@exact`, the
+/// affine `gradient` fill drawn by `M` (whose coverage and depth the perspective fill
+/// shares), the reference of the others in the same image.
+pub fn perspective_cases<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); PERSPECTIVE_CASES] {
+    const _: () = assert!(same(<ShiftAdd<8>>::NAME, "shift-add-8"), "divider name");
+    [
+        ("affine@exact", entry::<Gradient, M, P, T> as DrawFn<P, T>),
+        ("perspective-1@exact", perspective_entry::<Exact, 1, P, T>),
+        ("perspective-16@exact", perspective_entry::<Exact, 16, P, T>),
+        (
+            "perspective-1@shift-add-8",
+            perspective_entry::<ShiftAdd<8>, 1, P, T>,
+        ),
+        (
+            "perspective-16@shift-add-8",
+            perspective_entry::<ShiftAdd<8>, 16, P, T>,
+        ),
+    ]
 }
 
 /// The measurements of one frame, as the `FRAME` log line carries them.

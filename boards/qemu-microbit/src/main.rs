@@ -23,6 +23,10 @@
 //! `<figure>-<span>@<divider>`), with `dividers1` to `dividers4` the other dividers
 //! (`more_divider_cases_1` to `_4`): the flash does not hold all of them at once.
 //!
+//! With the feature `perspective` it draws perspective-correct Gouraud colours
+//! instead (`boards/common`'s `perspective_cases`, with the affine `gradient` frame
+//! as reference; frames `<figure>-perspective-<N>@<divider>`, `<figure>-affine@exact`).
+//!
 //! Run: `cargo run --release --no-default-features --features teapot` in this
 //! directory (default: sphere; `--features sphere,dividers` for the dividers); frame
 //! files land in the current directory.
@@ -44,7 +48,8 @@ use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
     feature = "dividers1",
     feature = "dividers2",
     feature = "dividers3",
-    feature = "dividers4"
+    feature = "dividers4",
+    feature = "perspective"
 )))]
 use fixshade_boards_common::cases;
 use fixshade_boards_common::{Counter, DrawFn, Fixed, FrameLog};
@@ -235,12 +240,15 @@ fn run() -> Result<(), &'static str> {
         feature = "dividers1",
         feature = "dividers2",
         feature = "dividers3",
-        feature = "dividers4"
+        feature = "dividers4",
+        feature = "perspective"
     )))]
     let table = cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
     #[cfg(feature = "dividers")]
     let table =
         fixshade_boards_common::quick_divider_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    #[cfg(feature = "perspective")]
+    let table = fixshade_boards_common::perspective_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
     #[cfg(feature = "dividers1")]
     let table =
         fixshade_boards_common::more_divider_cases_1::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();

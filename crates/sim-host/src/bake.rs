@@ -394,7 +394,8 @@ pub fn bake_loaded(
     })
 }
 
-/// Renders a one-object scene (its span method and divider) the way a board with
+/// Renders a one-object scene (its span method, divider and perspective correction)
+/// the way a board with
 /// little RAM does: strip by strip (`rows` rows each), and per strip chunk by chunk
 /// (`fixshade bake --chunk max_vertices`), each chunk with its own vertex stage. Returns the frame's bytes
 /// (Rgb565 little-endian scenes only). The QEMU Cortex-M0 firmware renders this way;
@@ -440,7 +441,7 @@ pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Resul
         for scene in &scenes {
             let frame =
                 Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache).map_err(|e| e.to_string())?;
-            pipeline::draw_span(&frame, d.span, d.divide, &mut strip)?;
+            pipeline::draw_span(&frame, d, &mut strip)?;
         }
         out.extend(
             strip

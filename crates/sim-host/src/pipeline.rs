@@ -317,20 +317,20 @@ impl SpanDispatch for DividedSpans {
     }
 }
 
-/// Draws a prepared frame with span method `span` and the divider `divide`, as
-/// [`render`] does for a Gouraud scene without perspective correction (for
+/// Draws a prepared frame as [`render`] draws the scene `d` with the default
+/// specular pipeline: its span method and divider, perspective-correct Gouraud
+/// colours when it asks for them, sampled Phong when it asks for that (for
 /// [`crate::bake::render_chunked`]).
 pub(crate) fn draw_span<P: PixelFormat, Sp: Specular>(
     frame: &Frame<'_, '_, '_, P, Sp>,
-    span: SpanName,
-    divide: DivideName,
+    d: &SceneDesc,
     fb: &mut impl fixshade::target::Target<P>,
 ) -> Result<Stats, String> {
-    if divide == DivideName::Exact {
-        ExactSpans::dispatch(frame, span, fb)
+    if d.divide == DivideName::Exact {
+        span_dispatch::<ExactSpans, _, _>(frame, d, fb)
     } else {
-        crate::host_divide::select(divide);
-        DividedSpans::dispatch(frame, span, fb)
+        crate::host_divide::select(d.divide);
+        span_dispatch::<DividedSpans, _, _>(frame, d, fb)
     }
 }
 

@@ -1,5 +1,5 @@
 //! `render_chunked` (the Cortex-M0 firmware's strips and mesh chunks on the host)
-//! draws with the scene's span method and divider.
+//! draws with the scene's span method, divider and perspective correction.
 
 use fixshade_sim::bake::render_chunked;
 use fixshade_sim::desc::{DivideName, SpanName};
@@ -24,5 +24,35 @@ fn render_chunked_draws_with_the_scenes_divider() {
             // reciprocal rounds the divisor to 12 bits).
             assert_ne!(cut, exact, "{d:?}");
         }
+    }
+}
+
+#[test]
+fn render_chunked_draws_perspective_correct_colours() {
+    let mut ls = pipeline::load_arg("sphere").unwrap();
+    ls.desc.width = 160;
+    ls.desc.height = 120;
+    ls.desc.span = SpanName::Gradient;
+    ls.desc.perspective_correct = false;
+    let affine = render_chunked(&ls, 64, 2).unwrap();
+    ls.desc.perspective_correct = true;
+    for d in [DivideName::Exact, DivideName::ShiftAdd(8)] {
+        ls.desc.divide = d;
+        let mut seen = Vec::new();
+        for span in [1, 16] {
+            ls.desc.perspective_span = span;
+            let cut = render_chunked(&ls, 64, 2).unwrap();
+            // The whole-frame render's pixels, strips of 2 rows and 64-vertex chunks
+            // notwithstanding ...
+            assert_eq!(
+                cut,
+                pipeline::render(&ls, None).unwrap().bytes,
+                "{d:?} {span}"
+            );
+            // ... which are not the affine fill's, and depend on the sub-span.
+            assert_ne!(cut, affine, "{d:?} {span}");
+            seen.push(cut);
+        }
+        assert_ne!(seen[0], seen[1], "{d:?}");
     }
 }

@@ -84,7 +84,10 @@ pub(super) fn csv_names(case: &str) -> (&str, &str, &str) {
 /// The markdown section: per board and figure, every divider against the same
 /// image's `exact`.
 pub(super) fn section(rows: &[FrameRow]) -> String {
-    let div: Vec<&FrameRow> = rows.iter().filter(|r| split(&r.case).is_some()).collect();
+    let div: Vec<&FrameRow> = rows
+        .iter()
+        .filter(|r| split(&r.case).is_some() && !super::perspective::is_case(&r.case))
+        .collect();
     if div.is_empty() {
         return String::new();
     }

@@ -3,7 +3,10 @@
 //! into one framebuffer with every span method in flat and Gouraud shading, and once
 //! (with `gradient`: their fills ignore the span method) in quadratic, Phong,
 //! Phong even/odd and adaptive shading, through `Frame::draw` with the scene's
-//! shading set, as the host renders them. Frames go to the host files
+//! shading set, as the host renders them; and, for the cases with a perspective
+//! camera, twice more in Gouraud shading with perspective-correct colours
+//! (`Frame::draw_perspective` with `exact`, every pixel and sub-spans of 16: span
+//! names `perspective-1`, `perspective-16`). Frames go to the host files
 //! `<case>-<shading>-<span>.rgb565` (see `fixshade_boards_common::scenes`);
 //! `cargo xtask qemu` builds it (`--features scenes --bin fixshade-mps2-scenes`)
 //! and compares every byte with the host.
@@ -11,8 +14,10 @@
 #![no_main]
 
 use cortex_m_rt::{entry, exception};
+use fixshade::divide::Exact;
+use fixshade::raster::perspective::Perspective;
 use fixshade::render::{Frame, XfVertex};
-use fixshade::scene::ShadingMode;
+use fixshade::scene::{Projection, ShadingMode};
 use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
 use fixshade_boards_common::{cases, Counter, SceneSettings};
@@ -126,6 +131,36 @@ fn run() -> Result<(), &'static str> {
                     .map_err(|_| "cannot write the frame file")?;
                 log.write(BOARD, case.name, shading_name(shading), span);
             }
+        }
+        if !matches!(scene.camera.projection, Projection::Perspective { .. }) {
+            continue;
+        }
+        scene.shading = ShadingMode::Gouraud;
+        for (span, mode) in [
+            ("perspective-1", Perspective::PER_PIXEL),
+            ("perspective-16", Perspective::SUB16),
+        ] {
+            fb.clear(bg);
+            let (frame, prepare) =
+                counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
+            let frame = frame.map_err(|_| "prepare failed")?;
+            let (stats, cost) =
+                counter.measure(|| frame.draw_perspective::<Exact, _>(&mut fb, mode));
+            let mut log = SceneLog {
+                width: w,
+                height: h,
+                prepare,
+                draw: cost,
+                ..SceneLog::default()
+            };
+            log.add(stats)?;
+            let mut name = [0u8; 96];
+            let mut f =
+                semihosting::fs::File::create(file_name(&mut name, case.name, "gouraud", span))
+                    .map_err(|_| "cannot create the frame file")?;
+            f.write_all(as_bytes(fb.color()))
+                .map_err(|_| "cannot write the frame file")?;
+            log.write(BOARD, case.name, "gouraud", span);
         }
     }
     Ok(())
