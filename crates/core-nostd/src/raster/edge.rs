@@ -59,9 +59,13 @@ impl EdgeStepper {
     /// The stepper of the edge `top → bottom` (`top.1 < bottom.1`) positioned on
     /// pixel row `y`.
     ///
-    /// Always inlined: its fast paths branch on the data, and out of line the call
-    /// and the spilled result cost more than the divisions they skip.
-    #[inline(always)]
+    /// Always inlined on hosted targets: its fast paths branch on the data, and out
+    /// of line the call and the spilled result cost more than the divisions they
+    /// skip. Bare-metal targets (`target_os = "none"`) leave it to the compiler:
+    /// every span method inlines the setup, and flash is the scarcer resource there
+    /// (a Cortex-M0 image with every span method overflowed its 256 KiB).
+    #[cfg_attr(not(target_os = "none"), inline(always))]
+    #[cfg_attr(target_os = "none", inline)]
     pub fn new(top: (i32, i32), bottom: (i32, i32), y: i32) -> EdgeStepper {
         let dx = bottom.0 - top.0;
         let dy = bottom.1 - top.1;

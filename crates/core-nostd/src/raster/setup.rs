@@ -176,15 +176,16 @@ pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// let (e, a) = (setup(t).unwrap(), setup_div::<ShiftAdd<8>>(t).unwrap());
 /// assert!(a.gx[0].abs() <= e.gx[0].abs() && a.gx[0].abs() * 10 > e.gx[0].abs() * 9);
 /// ```
-#[inline(always)]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
     setup_with_det_div::<D>(v).map(|(s, _)| s)
 }
 
 /// [`setup_div`], also returning its [`Det`] for further attribute planes.
-/// Always inlined, so the set-up triangle is built where it is used instead of
-/// being returned through memory.
-#[inline(always)]
+/// Always inlined on hosted targets, so the set-up triangle is built where it is
+/// used instead of being returned through memory; bare-metal targets keep one copy
+/// (flash; see [`super::edge::EdgeStepper::new`]).
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub(crate) fn setup_with_det_div<D: Divide>(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
     // Sorted by (y, x) with three compare-exchanges. Two vertices with equal keys
     // coincide, so the triangle has zero area and is rejected whatever their order.
