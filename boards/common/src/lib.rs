@@ -186,6 +186,12 @@ pub trait Mode {
         f: &Frame<'_, '_, '_, P>,
         t: &mut T,
     ) -> Result<Stats, RenderError>;
+    /// Draws `f` into `t` with perspective-correct colours, divider `D`.
+    fn perspective<D: Divide, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError>;
 }
 
 /// [`Frame::draw`]: the scene's depth and shading settings.
@@ -197,6 +203,13 @@ impl Mode for SceneSettings {
         t: &mut T,
     ) -> Result<Stats, RenderError> {
         f.draw::<S, T>(t)
+    }
+    fn perspective<D: Divide, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError> {
+        f.draw_perspective::<D, T>(t, mode)
     }
 }
 
@@ -211,6 +224,13 @@ impl<Z: DepthMode, Sh: Shading> Mode for Fixed<Z, Sh> {
         t: &mut T,
     ) -> Result<Stats, RenderError> {
         f.draw_with::<S, Z, Sh, T>(t)
+    }
+    fn perspective<D: Divide, P: PixelFormat, T: Target<P>>(
+        f: &Frame<'_, '_, '_, P>,
+        t: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError> {
+        f.draw_perspective_as::<D, Z, Sh, T>(t, mode)
     }
 }
 
@@ -412,7 +432,7 @@ pub const PERSPECTIVE_CASES: usize = 5;
 
 /// [`Frame::draw_perspective`] with divider `D` and one division per `SPAN` pixels
 /// (a power of two up to 64, checked at compile time).
-fn perspective_entry<D: Divide, const SPAN: u32, P: PixelFormat, T: Target<P>>(
+fn perspective_entry<D: Divide, const SPAN: u32, M: Mode, P: PixelFormat, T: Target<P>>(
     f: &Frame<'_, '_, '_, P>,
     t: &mut T,
 ) -> Result<Stats, RenderError> {
@@ -422,7 +442,7 @@ fn perspective_entry<D: Divide, const SPAN: u32, P: PixelFormat, T: Target<P>>(
             None => panic!("perspective span: a power of two up to 64"),
         }
     };
-    f.draw_perspective::<D, T>(t, mode)
+    M::perspective::<D, P, T>(f, t, mode)
 }
 
 /// Perspective-correct Gouraud colours (`fixshade render --perspective on
@@ -435,15 +455,15 @@ pub fn perspective_cases<M: Mode, P: PixelFormat, T: Target<P>>(
     const _: () = assert!(same(<ShiftAdd<8>>::NAME, "shift-add-8"), "divider name");
     [
         ("affine@exact", entry::<Gradient, M, P, T> as DrawFn<P, T>),
-        ("perspective-1@exact", perspective_entry::<Exact, 1, P, T>),
-        ("perspective-16@exact", perspective_entry::<Exact, 16, P, T>),
+        ("perspective-1@exact", perspective_entry::<Exact, 1, M, P, T>),
+        ("perspective-16@exact", perspective_entry::<Exact, 16, M, P, T>),
         (
             "perspective-1@shift-add-8",
-            perspective_entry::<ShiftAdd<8>, 1, P, T>,
+            perspective_entry::<ShiftAdd<8>, 1, M, P, T>,
         ),
         (
             "perspective-16@shift-add-8",
-            perspective_entry::<ShiftAdd<8>, 16, P, T>,
+            perspective_entry::<ShiftAdd<8>, 16, M, P, T>,
         ),
     ]
 }

@@ -69,7 +69,7 @@ use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use crate::raster::span::{Gradient, WithDivide};
 use crate::raster::{draw_triangle, ScreenVertex, GUARD};
 use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
-use crate::shade::{Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
+use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
 use crate::target::{to_channels, PixelFormat, Target};
 
 mod adaptive;
@@ -852,15 +852,62 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         if self.scene.depth_test && !target.has_depth() {
             return Err(RenderError::NoDepthBuffer);
         }
-        let m = Some(mode);
+        // Even/odd Phong draws with the one-accumulator fill (the same pixels).
         match (shading, self.scene.depth_test) {
-            (M::Gouraud, true) => Ok(self.draw_perspective_with::<D, DepthTest, T>(target, mode)),
-            (M::Gouraud, false) => Ok(self.draw_perspective_with::<D, NoDepth, T>(target, mode)),
-            (M::Adaptive, true) => self.draw_adaptive::<D, DepthTest, T>(target, m),
-            (M::Adaptive, false) => self.draw_adaptive::<D, NoDepth, T>(target, m),
-            (_, true) => self.draw_phong::<D, DepthTest, phong::Rows, T>(target, None, m),
-            (_, false) => self.draw_phong::<D, NoDepth, phong::Rows, T>(target, None, m),
+            (M::Gouraud, true) => {
+                self.draw_perspective_as::<D, DepthTest, Gouraud, T>(target, mode)
+            }
+            (M::Gouraud, false) => self.draw_perspective_as::<D, NoDepth, Gouraud, T>(target, mode),
+            (M::Adaptive, true) => {
+                self.draw_perspective_as::<D, DepthTest, Adaptive, T>(target, mode)
+            }
+            (M::Adaptive, false) => {
+                self.draw_perspective_as::<D, NoDepth, Adaptive, T>(target, mode)
+            }
+            (_, true) => self.draw_perspective_as::<D, DepthTest, Phong, T>(target, mode),
+            (_, false) => self.draw_perspective_as::<D, NoDepth, Phong, T>(target, mode),
         }
+    }
+
+    /// [`Frame::draw_perspective`] with the depth mode and the shading fixed by type,
+    /// as [`Frame::draw_with`] fixes them: only that combination's code is linked (a
+    /// Gouraud-only firmware carries no Phong fill). Flat and quadratic shading draw
+    /// as [`Frame::draw_with`] with [`Gradient`] draws them.
+    ///
+    /// ```
+    /// use fixshade::divide::Exact;
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::perspective::Perspective;
+    /// use fixshade::raster::span::DepthTest;
+    /// use fixshade::shade::Gouraud;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb888>::prepare(&scene, 64, 64, &mut cache).unwrap();
+    /// let (mut px, mut z) = ([[0u8; 3]; 64 * 64], [0xFFFFu16; 64 * 64]);
+    /// let mut fb = Framebuffer::<Rgb888>::new(&mut px, Some(&mut z), 64, 64).unwrap();
+    /// let st = frame
+    ///     .draw_perspective_as::<Exact, DepthTest, Gouraud, _>(&mut fb, Perspective::SUB16)
+    ///     .unwrap();
+    /// assert!(st.pixels > 0);
+    /// ```
+    pub fn draw_perspective_as<D: Divide, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError> {
+        if !Sh::INTERPOLATE || Sh::QUADRATIC {
+            return self.draw_with::<Gradient, Z, Sh, T>(target);
+        }
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if Sh::ADAPTIVE {
+            return self.draw_adaptive::<D, Z, T>(target, Some(mode));
+        }
+        if Sh::PER_PIXEL {
+            return self.draw_phong::<D, Z, phong::Rows, T>(target, None, Some(mode));
+        }
+        Ok(self.draw_perspective_with::<D, Z, T>(target, mode))
     }
 
     fn draw_perspective_with<D: Divide, Z: DepthMode, T: Target<P>>(
