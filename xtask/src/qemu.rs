@@ -174,6 +174,43 @@ const IMAGES: &[Image] = &[
         cpu: "cortex-m0",
         kind: Kind::Scenes,
     },
+    // The guard-band sphere alone (its 149 KB mesh), half of the span methods each.
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-guard",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-flat,scenes-guard",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-guard-b",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
+    Image {
+        krate: "qemu-microbit",
+        features: "scenes,scenes-flat,scenes-guard-b",
+        target: "thumbv6m-none-eabi",
+        bin: "fixshade-microbit-scenes",
+        machine: "microbit",
+        cpu: "cortex-m0",
+        kind: Kind::Scenes,
+    },
 ];
 
 /// Firmware for real boards: built (not run) by `cargo xtask qemu`, sizes printed.

@@ -9,12 +9,14 @@
 //! `cargo xtask qemu` builds it (`--features scenes --bin fixshade-microbit-scenes`)
 //! and compares every byte with the host drawing the same strips and chunks.
 //!
-//! Four images share the work (flash, see [`CASES`]): features `scenes` (Gouraud,
-//! first half of the cases), `scenes,scenes-flat`, `scenes,scenes-b` (second half)
-//! and `scenes,scenes-flat,scenes-b`. Not drawn, and logged as such:
+//! Eight images share the work (flash, see [`CASES`] and [`spans`]): features
+//! `scenes` (Gouraud, first half of the cases), `scenes,scenes-flat`,
+//! `scenes,scenes-b` (second half) and `scenes,scenes-flat,scenes-b`; the guard-band
+//! sphere alone with the first eight span methods, `scenes,scenes-guard` and
+//! `scenes,scenes-flat,scenes-guard`, and with the other seven, `scenes,scenes-guard-b`
+//! and `scenes,scenes-flat,scenes-guard-b`. Not drawn, and logged as such:
 //! `framebuffer-4095-wide` (one Rgb565 row with its depth row is 16 KiB, all of the
-//! RAM) and the cases listed in [`NO_FLASH`] (their meshes do not fit the flash
-//! beside the code).
+//! RAM).
 #![no_std]
 #![no_main]
 
@@ -28,7 +30,7 @@ use fixshade::shade::Flat;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
-use fixshade_boards_common::{cases, Counter, DrawFn, Fixed};
+use fixshade_boards_common::{Counter, DrawFn, Fixed};
 use semihosting::io::Write as _;
 
 /// The baked cases, chunked.
@@ -58,9 +60,9 @@ const MAX_OBJECTS: usize = 2;
 /// The cases this image draws: the baked meshes of all the cases that fit the RAM
 /// take 330 KB of flash (the guard-band sphere alone 149 KB), and the code of the
 /// 15 span methods in one shading mode about 150 KB, so the cases are split over
-/// two images (`scenes-b` selects the second) and the guard-band case is drawn by
-/// neither.
-#[cfg(not(feature = "scenes-b"))]
+/// two images (`scenes-b` selects the second) and the guard-band case has its own
+/// (`scenes-guard`), with half of the span methods (see [`spans`]).
+#[cfg(not(any(feature = "scenes-b", feature = "scenes-guard")))]
 const CASES: &[SceneCase] = &[
     baked::NEAR_PLANE_CROSSING,
     baked::CAMERA_INSIDE_CLOSED_SPHERE,
@@ -72,18 +74,63 @@ const CASES: &[SceneCase] = &[
     baked::ALL_NORMALS_OPPOSITE,
     baked::ODD_OBJ,
 ];
-#[cfg(feature = "scenes-b")]
+#[cfg(all(feature = "scenes-b", not(feature = "scenes-guard")))]
 const CASES: &[SceneCase] = &[
     baked::BEHIND_CAMERA,
     baked::FRAMEBUFFER_1X1,
     baked::OFF_SCREEN,
 ];
-/// Cases whose meshes fit no image's flash beside the code (logged by the first
-/// image only, as is the 4095-wide frame).
-#[cfg(not(feature = "scenes-b"))]
-const NO_FLASH: &[&str] = &["guard-band-clipping"];
-#[cfg(feature = "scenes-b")]
-const NO_FLASH: &[&str] = &[];
+#[cfg(feature = "scenes-guard")]
+const CASES: &[SceneCase] = &[baked::GUARD_BAND_CLIPPING];
+
+/// The span methods this image draws, named as the host names them: every one
+/// ([`fixshade_boards_common::cases`]), except in the guard-band images, which draw
+/// half of them each (the code of all 15 with the mesh overflows the flash by
+/// 43 584 B in Gouraud shading, 22 016 B in flat).
+#[cfg(not(feature = "scenes-guard"))]
+fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); CASES_SPANS] {
+    fixshade_boards_common::cases::<Draw, Rgb565Le, Strip<'s, Rgb565Le>>()
+}
+#[cfg(not(feature = "scenes-guard"))]
+const CASES_SPANS: usize = fixshade_boards_common::CASES;
+#[cfg(all(feature = "scenes-guard", not(feature = "scenes-guard-b")))]
+fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); 8] {
+    use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
+    use fixshade::raster::span::{Classic, Gradient};
+    [
+        ("classic", entry::<Classic>),
+        ("gradient", entry::<Gradient>),
+        ("even-odd", entry::<EvenOdd>),
+        ("kway2", entry::<KWay<2>>),
+        ("kway3", entry::<KWay<3>>),
+        ("kway4", entry::<KWay<4>>),
+        ("counter", entry::<CounterSpan>),
+        ("segment2", entry::<Segment<2>>),
+    ]
+}
+#[cfg(feature = "scenes-guard-b")]
+fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); 7] {
+    use fixshade::raster::parallel::Segment;
+    use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
+    [
+        ("segment4", entry::<Segment<4>>),
+        ("segment8", entry::<Segment<8>>),
+        ("segment16", entry::<Segment<16>>),
+        ("segment32", entry::<Segment<32>>),
+        ("segment64", entry::<Segment<64>>),
+        ("sierpinski", entry::<Sierpinski>),
+        ("sierpinski-exact", entry::<SierpinskiExact>),
+    ]
+}
+
+/// Draws with span method `S` (the guard-band images' tables).
+#[cfg(feature = "scenes-guard")]
+fn entry<S: fixshade::raster::span::SpanMethod>(
+    f: &Frame<'_, '_, '_, Rgb565Le>,
+    t: &mut Strip<'_, Rgb565Le>,
+) -> Result<Stats, fixshade::render::RenderError> {
+    <Draw as fixshade_boards_common::Mode>::run::<S, Rgb565Le, Strip<'_, Rgb565Le>>(f, t)
+}
 
 /// The shading mode of this image (`scenes-flat`: flat, else Gouraud), with its
 /// table of span methods.
@@ -160,11 +207,9 @@ fn run() -> Result<(), &'static str> {
     if baked::framebuffer_4095_wide::WIDTH as usize <= STRIP_PIXELS {
         return Err("framebuffer-4095-wide fits: draw it");
     }
-    if !cfg!(feature = "scenes-b") {
+    // Logged by the first image only.
+    if !cfg!(any(feature = "scenes-b", feature = "scenes-guard")) {
         scenes::skip(BOARD, "framebuffer-4095-wide", "ram");
-    }
-    for name in NO_FLASH {
-        scenes::skip(BOARD, name, "flash");
     }
     for case in CASES {
         if case.max_chunk_vertices > CACHE_VERTICES || case.width as usize > STRIP_PIXELS {
@@ -185,7 +230,7 @@ fn run() -> Result<(), &'static str> {
                 .map_err(|_| "strip")?;
         scene.shading = SHADING;
         let shading = shading_name(SHADING);
-        for (span, draw) in &cases::<Draw, Rgb565Le, Strip<'_, Rgb565Le>>() {
+        for (span, draw) in &spans() {
             let log = frame(
                 case,
                 *draw,
