@@ -21,11 +21,17 @@
 //! word as the vertices' w; nothing drawn when one is not positive); with vertex
 //! colours in range, recorded channels stay in range.
 //! Phong: both fills cover exactly what `gradient` covers (without depth), the
-//! even/odd fill equals the row fill, recorded channels stay in range.
+//! even/odd fill equals the row fill, recorded channels stay in range; the
+//! perspective-correct Phong fill (the second midpoint word triple as the vertices'
+//! w, any values; per pixel and by 16-pixel sub-spans, with the exact and a 4-term
+//! divider) writes nothing outside, keeps channels in range and covers exactly what
+//! the affine fill covers (nothing when a w is not positive).
 #![no_main]
 
 use fixshade::divide::{Exact, ShiftAdd};
-use fixshade::raster::perspective::{draw_triangle_perspective, Perspective};
+use fixshade::raster::perspective::{
+    draw_phong_perspective, draw_triangle_perspective, Perspective,
+};
 use fixshade::raster::phong::{draw_phong, EvenOdd as PhongEvenOdd, PhongVertex, Rows};
 use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth};
@@ -159,7 +165,11 @@ fn coverage(c: &Case, v: &[ScreenVertex; 3], mid: &[[i32; 3]; 3]) {
     // 4-term divider; nothing when a w is not positive.
     let w = mid[0].map(|x| x as i64);
     let none = vec![0u16; want.len()];
-    let expect = if w.iter().all(|x| *x > 0) { &want } else { &none };
+    let expect = if w.iter().all(|x| *x > 0) {
+        &want
+    } else {
+        &none
+    };
     for mode in [Perspective::PER_PIXEL, Perspective::SUB16] {
         for exact in [true, false] {
             let mut p = new();
@@ -174,7 +184,10 @@ fn coverage(c: &Case, v: &[ScreenVertex; 3], mid: &[[i32; 3]; 3]) {
             let got = p.pixels();
             let total: u32 = got.iter().map(|p| *p as u32).sum();
             assert_eq!(total, np, "perspective reported {np} pixels, wrote {total}");
-            assert_eq!(&got, expect, "perspective coverage differs from the exact model");
+            assert_eq!(
+                &got, expect,
+                "perspective coverage differs from the exact model"
+            );
         }
     }
 }
@@ -252,6 +265,68 @@ fn phong(c: &Case) {
                 n,
                 "phong: reported count"
             );
+        }
+        // The perspective-correct fill covers what the affine fill covers.
+        let w = mid[1].map(|x| x as i64);
+        let affine: Vec<bool> = rows.pixels().iter().map(|p| p.is_some()).collect();
+        let expect = if w.iter().all(|x| *x > 0) {
+            affine
+        } else {
+            vec![false; affine.len()]
+        };
+        for mode in [Perspective::PER_PIXEL, Perspective::SUB16] {
+            for exact in [true, false] {
+                let mut p = new();
+                let np = match (c.depth, exact) {
+                    (false, true) => draw_phong_perspective::<Rec, _, NoDepth, Exact, _>(
+                        &mut p,
+                        pv,
+                        w,
+                        mode,
+                        &NormalLight,
+                    ),
+                    (false, false) => draw_phong_perspective::<Rec, _, NoDepth, ShiftAdd<4>, _>(
+                        &mut p,
+                        pv,
+                        w,
+                        mode,
+                        &NormalLight,
+                    ),
+                    (true, true) => draw_phong_perspective::<Rec, _, DepthTest, Exact, _>(
+                        &mut p,
+                        pv,
+                        w,
+                        mode,
+                        &NormalLight,
+                    ),
+                    (true, false) => draw_phong_perspective::<Rec, _, DepthTest, ShiftAdd<4>, _>(
+                        &mut p,
+                        pv,
+                        w,
+                        mode,
+                        &NormalLight,
+                    ),
+                };
+                assert!(p.intact(), "phong perspective: write outside the target");
+                for px in p.pixels().into_iter().flatten() {
+                    assert!(
+                        px.iter().all(|ch| (0..=255).contains(ch)),
+                        "phong perspective: channel out of range: {px:?}"
+                    );
+                }
+                if !c.depth {
+                    let got: Vec<bool> = p.pixels().iter().map(|p| p.is_some()).collect();
+                    assert_eq!(
+                        got, expect,
+                        "phong perspective: coverage differs from the affine fill"
+                    );
+                    assert_eq!(
+                        got.iter().filter(|b| **b).count() as u32,
+                        np,
+                        "phong perspective: reported count"
+                    );
+                }
+            }
         }
     }
 }
