@@ -250,6 +250,11 @@ fn fuzz_seeds_are_current() {
                 raster_seed(method, *flags, w, h, strip, &tris),
             ));
         }
+        // The Phong fills, affine and perspective-correct (without depth).
+        seeds.push((
+            format!("raster/{}-phong", tc.name),
+            raster_seed(0x80, 0, w, h, strip, &tris),
+        ));
     }
     for sc in catalogue::scene_cases() {
         let text = std::fs::read(catalogue::path(&sc.scene)).unwrap();
