@@ -346,6 +346,7 @@ impl<S: Specular> LightingSetup<S> {
     /// an attenuation ≤ 2¹⁵, so each is below 2³¹ in Q16.16 and the i64 sums of at
     /// most 8 lights cannot overflow.
     pub fn shade(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        let mut acc = self.base;
         // The viewer direction enters the half vector only: without a specular term
         // it is never needed.
         let view = if S::ENABLED && self.local_viewer {
@@ -357,35 +358,14 @@ impl<S: Specular> LightingSetup<S> {
         let (dirs, points) = self
             .lights
             .split_at(self.directional.min(self.lights.len()));
-        // Directional lights in a loop of their own: no distance, no attenuation, no
-        // call (without a specular term), so the sums stay in registers; they are
-        // passed by value, never through memory.
-        let mut acc = self.base;
+        // Directional lights in a loop of their own: no distance, no attenuation.
         for light in dirs {
             let EyeKind::Directional { l, h } = light.kind else {
                 continue;
             };
             let h = || if self.local_viewer { half(l, view) } else { h };
-            acc = self.add_light(acc, light, n, l, None, h);
+            self.add_light(&mut acc, light, n, l, None, h);
         }
-        if !points.is_empty() {
-            acc = self.add_points(acc, points, p, n, view);
-        }
-        acc.map(|c| c.clamp(0, 1 << 16) as i32)
-    }
-
-    /// The point lights' terms added to `acc` (out of line: their distances and
-    /// attenuations call out, which would keep the directional loop's sums in
-    /// memory if they shared a function).
-    #[inline(never)]
-    fn add_points(
-        &self,
-        mut acc: [i64; 3],
-        points: &[EyeLight],
-        p: [i32; 3],
-        n: [i32; 3],
-        view: [i32; 3],
-    ) -> [i64; 3] {
         for light in points {
             let EyeKind::Point { pos, att } = light.kind else {
                 continue;
@@ -399,25 +379,25 @@ impl<S: Specular> LightingSetup<S> {
                 continue;
             };
             let a = attenuation(d, att);
-            acc = self.add_light(acc, light, n, l, Some(a), || half(l, view));
+            self.add_light(&mut acc, light, n, l, Some(a), || half(l, view));
         }
-        acc
+        acc.map(|c| c.clamp(0, 1 << 16) as i32)
     }
 
-    /// `acc` with one light's ambient, diffuse and specular terms added: unit normal
+    /// Adds one light's ambient, diffuse and specular terms to `acc`: unit normal
     /// `n` and direction to the light `l` (Q2.30), attenuation `att` (Q16.16;
     /// `None` for a directional light, exactly 1), the half vector computed only
     /// when the specular term is needed.
     #[inline(always)]
     fn add_light(
         &self,
-        mut acc: [i64; 3],
+        acc: &mut [i64; 3],
         light: &EyeLight,
         n: [i32; 3],
         l: [i32; 3],
         att: Option<i64>,
         h: impl FnOnce() -> Option<[i32; 3]>,
-    ) -> [i64; 3] {
+    ) {
         // `att` None: attenuation exactly 1 (2¹⁶ in Q16.16); its products are
         // skipped, with the same values ((x·2¹⁶) >> 16 = x, (2¹⁶·y) >> 30 = y >> 14).
         match att {
@@ -434,7 +414,7 @@ impl<S: Specular> LightingSetup<S> {
         }
         let nl = dot_q30(n, l);
         if nl <= 0 {
-            return acc;
+            return;
         }
         // att·(N·L): Q16.16 · Q2.30 → Q16.16.
         let f = match att {
@@ -445,12 +425,12 @@ impl<S: Specular> LightingSetup<S> {
             *c += (dif * f) >> 16;
         }
         if !S::ENABLED || !light.has_spec {
-            return acc;
+            return;
         }
-        let Some(h) = h() else { return acc };
+        let Some(h) = h() else { return };
         let nh = dot_q30(n, h);
         if nh <= 0 {
-            return acc;
+            return;
         }
         let s = S::eval_wide(&self.spec, nh.min(ONE_Q30));
         // att ≤ 2^31 (Q16.16) and s ≤ 2^36 (Q.30): the product needs i128 only
@@ -462,7 +442,6 @@ impl<S: Specular> LightingSetup<S> {
         for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
             *c += (sp * f) >> 16;
         }
-        acc
     }
 }
 
