@@ -2,7 +2,8 @@
 //! triggers it and the derived frame keeps the pixels of the frame as written;
 //! forced settings override the rules; adaptive shading stays within 1e-4 of full
 //! Phong on the three figures and reports the triangles that paid; its per-triangle
-//! bound is never below the specular light actually found inside a triangle.
+//! bounds are never below the specular light and the Gouraud error actually found inside
+//! a triangle.
 
 use fixshade::effects::NoSpecular;
 use fixshade::fixed::Q16_16;
@@ -392,6 +393,101 @@ fn specular_bound_is_never_below_the_light_found_inside() {
     // the light found in most cases.
     println!("{tight} of {checked} bounds within 4x of the sampled maximum");
     assert!(tight * 2 > checked, "{tight} of {checked}");
+}
+
+#[test]
+fn diffuse_bound_is_never_below_the_gouraud_error_found_inside() {
+    // Gouraud's ambient and diffuse light (the vertex colours interpolated) against
+    // the same light per pixel (interpolated normals renormalised), sampled over
+    // small triangles, many of them crossing a light's terminator.
+    let mut rng = Lcg(11);
+    let white = [Q16_16::ONE; 3];
+    let (mut checked, mut crossing, mut tight) = (0, 0, 0);
+    for case in 0..600 {
+        let point = case % 3 == 2;
+        let centre = [rng.q(1 << 16), rng.q(1 << 16), -(4 << 16) + rng.q(1 << 16)];
+        let base = [rng.q(1 << 16), rng.q(1 << 16), (1 << 16) + rng.q(1 << 15)];
+        let spread = 1 + rng.next() % (1 << 14);
+        let n: [[i32; 3]; 3] = core::array::from_fn(|_| {
+            let v: [i64; 3] = core::array::from_fn(|k| base[k] + rng.q(spread));
+            normalize_to_q30(v).unwrap()
+        });
+        let light = if point {
+            Light {
+                kind: LightKind::Point {
+                    position: [0, 0, 0].map(|_| Q16_16::from_bits(rng.q(3 << 16) as i32)),
+                    attenuation: [Q16_16::ONE, Q16_16::ZERO, Q16_16::from_ratio(1, 10)],
+                },
+                ambient: [Q16_16::from_ratio(1, 5); 3],
+                diffuse: white,
+                specular: white,
+            }
+        } else {
+            // Most directions nearly perpendicular to the normals: the terminator
+            // crosses the triangle.
+            let side = [base[1], -base[0], rng.q(1 << 13)];
+            let d: [i64; 3] = if case % 3 == 0 {
+                core::array::from_fn(|_| rng.q(1 << 16))
+            } else {
+                side
+            };
+            Light::directional(
+                d.map(|v| Q16_16::from_bits(v as i32)),
+                white,
+                [Q16_16::ZERO; 3],
+            )
+        };
+        let setup = LightingSetup::<NoSpecular>::new(
+            &[light],
+            &Mat4::IDENTITY,
+            &Material::default(),
+            [Q16_16::ZERO; 3],
+            false,
+        );
+        let p: [[i32; 3]; 3] =
+            core::array::from_fn(|_| core::array::from_fn(|k| (centre[k] + rng.q(1 << 14)) as i32));
+        let bound = setup.diffuse_bound(&n, &p);
+        assert!(bound >= 0);
+        let c: [[i32; 3]; 3] = core::array::from_fn(|v| setup.shade(p[v], n[v]));
+        let mut found = 0;
+        let steps = 12i64;
+        for i in 0..=steps {
+            for j in 0..=steps - i {
+                let w = [i, j, steps - i - j];
+                let pt: [i32; 3] = core::array::from_fn(|k| {
+                    ((0..3).map(|v| w[v] * p[v][k] as i64).sum::<i64>() / steps) as i32
+                });
+                let nv: [i64; 3] =
+                    core::array::from_fn(|k| (0..3).map(|v| w[v] * n[v][k] as i64).sum::<i64>());
+                let Some(nn) = normalize_to_q30(nv) else {
+                    continue;
+                };
+                let per_pixel = setup.shade(pt, nn);
+                for ch in 0..3 {
+                    let g: i64 = (0..3).map(|v| w[v] * c[v][ch] as i64).sum();
+                    found = found.max((g - steps * per_pixel[ch] as i64).abs() / steps);
+                }
+            }
+        }
+        assert!(
+            bound >= found,
+            "case {case}: bound {bound} < Gouraud error {found} found inside (point {point})"
+        );
+        checked += 1;
+        let lit: Vec<bool> = c.iter().map(|v| v[0] > 0).collect();
+        if !point && lit.iter().any(|l| *l) && lit.iter().any(|l| !l) {
+            crossing += 1;
+            // Crossing the terminator: within 4x (or 1/256) of the error found.
+            if bound < 4 * found.max(1 << 8) {
+                tight += 1;
+            }
+        }
+    }
+    println!(
+        "{checked} triangles, {crossing} crossing a terminator, {tight} of them bound within 4x"
+    );
+    assert!(crossing > 50, "{crossing}");
+    assert!(tight * 2 > crossing, "{tight} of {crossing}");
 }
 
 #[test]

@@ -884,8 +884,9 @@ theirs, `N·H ≤ (max N·L + max N·V) / sqrt(2 + 2 min L·V)`, the model's val
 that bound) and lights a triangle per pixel when it reaches half a step of the \
 target's finest channel, so no highlight is lost. It also bounds how far Gouraud's \
 ambient and diffuse light can be from the per-pixel one \
-(`LightingSetup::diffuse_bound`: the shorter interpolated normal, a terminator \
-crossing the triangle, a point light's varying direction and attenuation) and lights \
+(`LightingSetup::diffuse_bound`: the shorter interpolated normal, a directional \
+light's terminator crossing the triangle by how far its vertices lie behind it, a \
+point light's varying direction and attenuation) and lights \
 per pixel where that bound reaches 8 steps (the bound is loose: with a limit of half \
 a step, the first design, most triangles paid and adaptive cost more than Phong on \
 the teapot and the robot; without it the teapot's NMSE against Phong was 1.4e-4). \
