@@ -346,7 +346,11 @@ impl<P: PixelFormat> Packed<P> {
         const K: u64 = 1 + (1 << 16) + (1 << 32);
         let m = ((c & Self::FIELDS).wrapping_mul(K) >> 48) as u32;
         let [_, b1, b2] = Self::B;
-        P::pack(m >> (b1 + b2), (m >> b2) & ((1 << b1) - 1), m & ((1 << b2) - 1))
+        P::pack(
+            m >> (b1 + b2),
+            (m >> b2) & ((1 << b1) - 1),
+            m & ((1 << b2) - 1),
+        )
     }
 }
 
