@@ -67,7 +67,7 @@ use crate::raster::phong::{
 use crate::raster::quadratic::draw_quadratic_div;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use crate::raster::span::{Gradient, WithDivide};
-use crate::raster::{draw_triangle, ScreenVertex, GUARD};
+use crate::raster::{draw_in_guard, draw_triangle, ScreenVertex, GUARD};
 use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
 use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
 use crate::target::{to_channels, PixelFormat, Target};
@@ -116,6 +116,18 @@ enum Class {
 /// target holds; a triangle entirely above, below, left or right of them is skipped.
 #[inline]
 fn classify(t: &[XfVertex; 3], cull: bool, vp: &Viewport, rows: core::ops::Range<i32>) -> Class {
+    classify_refs([&t[0], &t[1], &t[2]], cull, vp, rows)
+}
+
+/// [`classify`] on references into the vertex cache (the hot loops read the three
+/// vertices in place instead of copying them out first).
+#[inline(always)]
+fn classify_refs(
+    t: [&XfVertex; 3],
+    cull: bool,
+    vp: &Viewport,
+    rows: core::ops::Range<i32>,
+) -> Class {
     if (t[0].flags | t[1].flags | t[2].flags) & OUTSIDE != 0 {
         return Class::Clip;
     }
@@ -361,8 +373,8 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             // 2. Cull before lighting: only vertices of triangles that may be drawn
             //    are lit.
             for tri in mesh.triangles() {
-                let t = tri.map(|i| out[i as usize]);
-                if classify(&t, scene.cull_back, &vp, 0..height as i32) != Class::Skip {
+                let t = tri.map(|i| &out[i as usize]);
+                if classify_refs(t, scene.cull_back, &vp, 0..height as i32) != Class::Skip {
                     for i in tri {
                         out[*i as usize].flags |= NEEDED;
                     }
@@ -464,6 +476,34 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             for tri in obj.mesh.triangles() {
                 st.triangles += 1;
+                if !S::SNAPS {
+                    // The usual path: the three vertices are read in place, and a
+                    // triangle inside the guard band goes to the setup directly.
+                    let t = tri.map(|i| &verts[i as usize]);
+                    match classify_refs(t, cull, &self.vp, rows.clone()) {
+                        Class::Skip => st.culled += 1,
+                        Class::Draw => {
+                            st.drawn += 1;
+                            let mut s = t.map(|v| v.s);
+                            if !Sh::INTERPOLATE {
+                                let c = s[2].c;
+                                s[0].c = c;
+                                s[1].c = c;
+                            }
+                            st.pixels += draw_in_guard::<P, T, S, Z, Sh>(target, s);
+                        }
+                        Class::Clip => {
+                            st.clipped += 1;
+                            let pos = obj.mesh.positions();
+                            let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                                pos: prep.clip.transform(&pos[tri[k] as usize]),
+                                c: if Sh::INTERPOLATE { t[k].s.c } else { t[2].s.c },
+                            });
+                            self.draw_clipped::<S, Z, Sh, T>(target, cv, cull, &mut st);
+                        }
+                    }
+                    continue;
+                }
                 let mut t = tri.map(|i| verts[i as usize]);
                 if S::SNAPS {
                     // A method that moves vertices is culled on the moved ones, and

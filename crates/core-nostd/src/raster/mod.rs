@@ -90,6 +90,18 @@ fn vattrs(v: &ScreenVertex) -> [i64; ATTRS] {
     [v.c[0] as i64, v.c[1] as i64, v.c[2] as i64, v.z as i64]
 }
 
+/// `n / d` (truncating, as `i128` division) for `0 < d < 2⁶³`, with a 64-bit
+/// division when `n` fits `i64` (the usual case: |Δa| < 2³³ times 2²⁰ is below 2⁵³;
+/// only an edge read far from its top vertex needs the wide one). Both divisions
+/// truncate toward zero, so the quotient is the same.
+#[inline]
+fn div_by_rows(n: i128, d: i128) -> i128 {
+    match (i64::try_from(n), i64::try_from(d)) {
+        (Ok(n), Ok(d)) => (n / d) as i128,
+        _ => n / d,
+    }
+}
+
 impl EdgeAttrs {
     /// Values at the edge crossing of row `y` for the edge `t → b`, 16 extra
     /// fraction bits: evaluated at row `anchor` (the first row of the triangle half
@@ -106,9 +118,9 @@ impl EdgeAttrs {
         let mut inc = [0i64; ATTRS];
         for k in 0..ATTRS {
             let da = (ab[k] - at[k]) as i128;
-            inc[k] = (((da * 16) << 16) / dy) as i64;
+            inc[k] = div_by_rows((da * 16) << 16, dy) as i64;
             val[k] = ((((at[k] as i128 + setup::ROUND_BIAS as i128) << 16)
-                + ((da * off) << 16) / dy) as i64)
+                + div_by_rows((da * off) << 16, dy)) as i64)
                 .wrapping_add(steps.wrapping_mul(inc[k]));
         }
         EdgeAttrs { val, inc }
@@ -158,6 +170,22 @@ where
     if outside_guard(v.map(|p| (p.x, p.y))) {
         return 0;
     }
+    draw_in_guard::<P, T, S, Z, Sh>(target, v)
+}
+
+/// [`draw_triangle`] for a triangle already known to lie inside the guard band (the
+/// frame's classification checked it): setup and fill. Inlined into the caller's
+/// loop on hosted targets, so the set-up triangle is built in place; bare-metal
+/// targets keep one copy (flash).
+#[cfg_attr(not(target_os = "none"), inline(always))]
+pub(crate) fn draw_in_guard<P, T, S, Z, Sh>(target: &mut T, v: [ScreenVertex; 3]) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    S: SpanMethod,
+    Z: DepthMode,
+    Sh: Shading,
+{
     let Some(s) = S::setup(v) else {
         return 0;
     };

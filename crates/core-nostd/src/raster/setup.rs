@@ -89,8 +89,9 @@ pub(crate) struct Det {
     dy1: i64,
     dx2: i64,
     dy2: i64,
-    /// `sign(det)·⌊2⁶²/|det|⌋`.
-    inv: i128,
+    /// `sign(det)·⌊2⁶²/|det|⌋`: |inv| ≤ 2⁶² fits `i64`, so each increment is one
+    /// signed 64×64→128 multiply.
+    inv: i64,
 }
 
 impl Det {
@@ -111,11 +112,12 @@ impl Det {
             return None;
         }
         // |det| ≥ 1 and < 2^35: a u64 division (one hardware divide on 64-bit hosts).
+        // Both branches give 1 ≤ inv ≤ 2^62: fits i64, and so does its negation.
         let inv = if D::EXACT {
-            ((1u64 << 62) / det.unsigned_abs()) as i128
+            ((1u64 << 62) / det.unsigned_abs()) as i64
         } else {
             // ≤ 2^62 (the mantissa is at least 1), at least 1: the sign survives.
-            wide_recip::<D>(det.unsigned_abs() as u128).scaled(62) as i128
+            wide_recip::<D>(det.unsigned_abs() as u128).scaled(62) as i64
         };
         Some(Det {
             dx1,
@@ -133,8 +135,8 @@ impl Det {
     #[inline]
     pub(crate) fn gradient(&self, d1: i64, d2: i64, extra: u32) -> (i128, i128) {
         let sh = 62 - extra;
-        // |inv| ≤ 2^62 fits i64: a 64×64→128 product (one widening multiply).
-        let inv = self.inv as i64;
+        // |inv| ≤ 2^62 and |num| < 2^54 are both i64: one widening multiply.
+        let inv = self.inv;
         let quot = |num: i64| (num as i128 * inv as i128 + (1 << (sh - 1))) >> sh;
         (
             quot(16 * (d1 * self.dy2 - d2 * self.dy1)),

@@ -296,24 +296,61 @@ impl<P: PixelFormat> Packed<P> {
         let last = (n - 1) as i64;
         let mut p = 0u64;
         let mut d = 0u64;
+        // Bits outside the lanes: `a` and `e` lie in [0, 2^L) exactly when
+        // `(a | e) as u64 >> L` is 0 (a negative value has its top bit set), so the
+        // three channels need one branch instead of twelve.
+        let mut out = 0u64;
         for k in 0..3 {
             let (a, e) = (v[k] as i64, v[k] as i64 + last * g[k] as i64);
-            let lim = 1i64 << Self::L[k];
-            if a < 0 || a >= lim || e < 0 || e >= lim {
-                return None;
-            }
+            out |= (a | e) as u64 >> Self::L[k];
             // Modulo 2^64 by design: the sum of the shifted lanes is exact mod 2^64.
             p = p.wrapping_add((a as u64) << Self::OFF[k]);
             d = d.wrapping_add((g[k] as i64 as u64) << Self::OFF[k]);
         }
-        Some((p, d))
+        (out == 0).then_some((p, d))
     }
 
+    /// Integer bits of the three channels (`B` = b0 + b1 + b2 ≤ 16 when the lanes
+    /// fit, since 48 + B ≤ 64).
+    const B: [u32; 3] = [
+        int_bits(P::MAX[0]),
+        int_bits(P::MAX[1]),
+        int_bits(P::MAX[2]),
+    ];
+    /// The integer fields of the three lanes: channel k at bits
+    /// `[OFF[k] + 16, OFF[k] + 16 + B[k])`.
+    /// Zero (unused) for a format whose lanes do not fit.
+    const FIELDS: u64 = {
+        let mut m = 0u64;
+        let mut k = 0;
+        while Self::FITS && k < 3 {
+            m |= ((1u64 << Self::B[k]) - 1) << (Self::OFF[k] + 16);
+            k += 1;
+        }
+        m
+    };
+
     /// The pixel of a packed register: each lane's integer bits.
+    ///
+    /// The fields are gathered by one multiply instead of three shift-and-masks:
+    /// with `m = c & FIELDS`, red lies at `[48 + b2 + b1, 48 + B)`, green at
+    /// `[32 + b2, 32 + b2 + b1)`, blue at `[16, 16 + b2)`. Times `1 + 2¹⁶ + 2³²`
+    /// (modulo 2⁶⁴) red stays, green moves to `[48 + b2, 48 + b2 + b1)` and blue to
+    /// `[48, 48 + b2)`: `(m·K) >> 48` is `red·2^(b1+b2) + green·2^b2 + blue`. The
+    /// other partial products land below bit 48 (green at `[32 + b2, 48)`, blue at
+    /// `[16, 16 + b2)` and `[32, 32 + b2)`) or at bit 64 and above: all the fields
+    /// are disjoint, so the sum has no carries and the top 16 bits hold only the
+    /// three gathered fields.
     #[inline(always)]
     fn pack(c: u64) -> P::Raw {
-        let ch = |k: usize| ((c >> (Self::OFF[k] + 16)) as u32) & ((1 << int_bits(P::MAX[k])) - 1);
-        P::pack(ch(0), ch(1), ch(2))
+        const K: u64 = 1 + (1 << 16) + (1 << 32);
+        let m = ((c & Self::FIELDS).wrapping_mul(K) >> 48) as u32;
+        let [_, b1, b2] = Self::B;
+        P::pack(
+            m >> (b1 + b2),
+            (m >> b2) & ((1 << b1) - 1),
+            m & ((1 << b2) - 1),
+        )
     }
 }
 
