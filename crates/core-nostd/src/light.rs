@@ -345,10 +345,18 @@ impl<S: Specular> LightingSetup<S> {
     /// Bounds: every term is a product of factors ≤ 1 (dot products, colours) and
     /// an attenuation ≤ 2¹⁵, so each is below 2³¹ in Q16.16 and the i64 sums of at
     /// most 8 lights cannot overflow.
+    #[inline]
     pub fn shade(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        // Inlined into the caller, so a diffuse-only directional scene makes one
+        // call, as a hand-written loop does.
         if !S::ENABLED && self.directional >= self.lights.len() {
             return self.diffuse_directional(n);
         }
+        self.shade_any(p, n)
+    }
+
+    /// [`Self::shade`] for any lights and specular term.
+    fn shade_any(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
         let mut acc = self.base;
         // The viewer direction enters the half vector only: without a specular term
         // it is never needed.

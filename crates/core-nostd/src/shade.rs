@@ -209,7 +209,9 @@ impl Shading for PhongEvenOdd {
 /// Adaptive shading (the "inner specular check" of seed 002): per triangle, a
 /// conservative bound of the specular term over the triangle
 /// ([`crate::light::LightingSetup::specular_bound`]) decides whether a highlight can
-/// reach inside it; those triangles are Phong-shaded, the rest Gouraud-shaded.
+/// reach inside it; those triangles are Phong-shaded, the rest Gouraud-shaded
+/// (a bound of the diffuse error sends more to Phong; triangles under 4 pixels and
+/// clipped triangles are always Phong-shaded).
 /// [`crate::render::Stats::per_pixel`] counts the triangles that paid.
 ///
 /// ```

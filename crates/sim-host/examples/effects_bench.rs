@@ -11,6 +11,10 @@
 //!      time because no light has a specular colour),
 //!    - a hand-written diffuse-only loop over directional lights (no specular code,
 //!      no local viewer, no point lights), checked to give the same colours.
+//!
+//!    Every variant gets each vertex's position and normal through `black_box`,
+//!    the hand loop too (it ignores the position), so all three load the same
+//!    inputs.
 //! 2. Whole frames (vertex stage + Gouraud draw, no depth buffer) with
 //!    `Frame::<_, NoSpecular>` and `Frame::<_, BlinnExact>`.
 //!
@@ -163,7 +167,12 @@ fn main() {
     let run_hand = || {
         verts
             .iter()
-            .map(|(_, n)| hand.shade(black_box(*n))[0] as i64)
+            .map(|(p, n)| {
+                // The same inputs as the generic calls: the position goes through
+                // `black_box` as well (the hand loop has no use for it).
+                black_box(*p);
+                hand.shade(black_box(*n))[0] as i64
+            })
             .sum()
     };
     let (mut g_h, mut r_h, mut tg) = (Vec::new(), Vec::new(), Vec::new());

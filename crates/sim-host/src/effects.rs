@@ -891,5 +891,6 @@ per pixel where that bound reaches 8 steps (the bound is loose: with a limit of 
 a step, the first design, most triangles paid and adaptive cost more than Phong on \
 the teapot and the robot; without it the teapot's NMSE against Phong was 1.4e-4). \
 The other triangles take the Gouraud colours of the vertex stage. Triangles that go \
-through the clipper are always lit per pixel.
+through the clipper, and triangles of fewer than 4 pixels (where the bounds cost more \
+than Phong's pixels), are always lit per pixel.
 ";
