@@ -474,78 +474,84 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let rows = target.rows();
         for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            let pos = obj.mesh.positions();
             for tri in obj.mesh.triangles() {
                 st.triangles += 1;
                 if !S::SNAPS {
-                    // The usual path: the three vertices are read in place, and a
-                    // triangle inside the guard band goes to the setup directly.
+                    // The usual path: the three vertices are read in place.
                     let t = tri.map(|i| &verts[i as usize]);
-                    match classify_refs(t, cull, &self.vp, rows.clone()) {
-                        Class::Skip => st.culled += 1,
-                        Class::Draw => {
-                            st.drawn += 1;
-                            let mut s = t.map(|v| v.s);
-                            if !Sh::INTERPOLATE {
-                                let c = s[2].c;
-                                s[0].c = c;
-                                s[1].c = c;
-                            }
-                            st.pixels += draw_in_guard::<P, T, S, Z, Sh>(target, s);
-                        }
-                        Class::Clip => {
-                            st.clipped += 1;
-                            let pos = obj.mesh.positions();
-                            let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                                pos: prep.clip.transform(&pos[tri[k] as usize]),
-                                c: if Sh::INTERPOLATE { t[k].s.c } else { t[2].s.c },
-                            });
-                            self.draw_clipped::<S, Z, Sh, T>(target, cv, cull, &mut st);
-                        }
-                    }
+                    let class = classify_refs(t, cull, &self.vp, rows.clone());
+                    self.draw_classified::<S, Z, Sh, T>(
+                        target,
+                        t,
+                        class,
+                        (pos, tri, prep),
+                        &mut st,
+                    );
                     continue;
                 }
+                // A method that moves vertices is culled on the moved ones, and only
+                // triangles drawable before the move are drawn (the vertex stage lit
+                // only their vertices): a sliver that turns front by snapping is
+                // dropped (a documented coverage exception). The test is on the
+                // triangle itself over the whole frame, so the result does not depend
+                // on its neighbours or on the target's rows.
                 let mut t = tri.map(|i| verts[i as usize]);
-                if S::SNAPS {
-                    // A method that moves vertices is culled on the moved ones, and
-                    // only triangles drawable before the move are drawn (the vertex
-                    // stage lit only their vertices): a sliver that turns front by
-                    // snapping is dropped (a documented coverage exception). The test
-                    // is on the triangle itself over the whole frame, so the result
-                    // does not depend on its neighbours or on the target's rows.
-                    let whole = 0..self.vp.height as i32;
-                    if classify(&t, cull, &self.vp, whole) == Class::Skip {
-                        st.culled += 1;
-                        continue;
-                    }
-                    for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
-                        v.s = S::snap(v.s);
-                    }
+                let whole = 0..self.vp.height as i32;
+                if classify(&t, cull, &self.vp, whole) == Class::Skip {
+                    st.culled += 1;
+                    continue;
                 }
-                let mut s = [t[0].s, t[1].s, t[2].s];
-                if !Sh::INTERPOLATE {
-                    let c = s[2].c;
-                    s[0].c = c;
-                    s[1].c = c;
+                for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
+                    v.s = S::snap(v.s);
                 }
-                match classify(&t, cull, &self.vp, rows.clone()) {
-                    Class::Skip => st.culled += 1,
-                    Class::Draw => {
-                        st.drawn += 1;
-                        st.pixels += draw_triangle::<P, T, S, Z, Sh>(target, s);
-                    }
-                    Class::Clip => {
-                        st.clipped += 1;
-                        let pos = obj.mesh.positions();
-                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                            pos: prep.clip.transform(&pos[tri[k] as usize]),
-                            c: s[k].c,
-                        });
-                        self.draw_clipped::<S, Z, Sh, T>(target, cv, cull, &mut st);
-                    }
-                }
+                let class = classify(&t, cull, &self.vp, rows.clone());
+                let t = [&t[0], &t[1], &t[2]];
+                self.draw_classified::<S, Z, Sh, T>(target, t, class, (pos, tri, prep), &mut st);
             }
         }
         Ok(st)
+    }
+
+    /// Draws one triangle of [`Frame::draw_with`] as classified: `t` its vertices
+    /// (snapped for a method that snaps), `tri` its indices into the object's
+    /// positions `pos` (clipping transforms them again). Flat shading takes the last
+    /// vertex's colour. A triangle classified inside the guard band goes to the setup
+    /// directly; snapped vertices are tested again, since snapping moves them.
+    #[inline(always)]
+    fn draw_classified<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+        t: [&XfVertex; 3],
+        class: Class,
+        (pos, tri, prep): (&[Vec3], &[u16; 3], &Prepared),
+        st: &mut Stats,
+    ) {
+        let colour = |k: usize| if Sh::INTERPOLATE { t[k].s.c } else { t[2].s.c };
+        match class {
+            Class::Skip => st.culled += 1,
+            Class::Draw => {
+                st.drawn += 1;
+                let mut s = t.map(|v| v.s);
+                if !Sh::INTERPOLATE {
+                    s[0].c = s[2].c;
+                    s[1].c = s[2].c;
+                }
+                st.pixels += if S::SNAPS {
+                    draw_triangle::<P, T, S, Z, Sh>(target, s)
+                } else {
+                    draw_in_guard::<P, T, S, Z, Sh>(target, s)
+                };
+            }
+            Class::Clip => {
+                st.clipped += 1;
+                let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                    pos: prep.clip.transform(&pos[tri[k] as usize]),
+                    c: colour(k),
+                });
+                self.draw_clipped::<S, Z, Sh, T>(target, cv, self.scene.cull_back, st);
+            }
+        }
     }
 
     /// Phong shading with the lighting sampled by pixel segments (seed 002 §2.6, see

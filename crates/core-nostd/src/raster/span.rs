@@ -341,8 +341,12 @@ impl<P: PixelFormat> Packed<P> {
     /// `[16, 16 + b2)` and `[32, 32 + b2)`) or at bit 64 and above: all the fields
     /// are disjoint, so the sum has no carries and the top 16 bits hold only the
     /// three gathered fields.
+    ///
+    /// On 32-bit cores the 64-bit multiply takes three, and the three shift-and-masks
+    /// of [`Packed::pack_shifts`] are cheaper: they are kept there (same bits, tested).
+    #[cfg(any(test, target_pointer_width = "64"))]
     #[inline(always)]
-    fn pack(c: u64) -> P::Raw {
+    fn pack_gather(c: u64) -> P::Raw {
         const K: u64 = 1 + (1 << 16) + (1 << 32);
         let m = ((c & Self::FIELDS).wrapping_mul(K) >> 48) as u32;
         let [_, b1, b2] = Self::B;
@@ -351,6 +355,23 @@ impl<P: PixelFormat> Packed<P> {
             (m >> b2) & ((1 << b1) - 1),
             m & ((1 << b2) - 1),
         )
+    }
+
+    /// The pixel of a packed register: each lane's integer bits, by shift and mask.
+    #[cfg(any(test, not(target_pointer_width = "64")))]
+    #[inline(always)]
+    fn pack_shifts(c: u64) -> P::Raw {
+        let ch = |k: usize| ((c >> (Self::OFF[k] + 16)) as u32) & ((1 << Self::B[k]) - 1);
+        P::pack(ch(0), ch(1), ch(2))
+    }
+
+    /// The pixel of a packed register, by the cheaper gather of the target.
+    #[inline(always)]
+    fn pack(c: u64) -> P::Raw {
+        #[cfg(target_pointer_width = "64")]
+        return Self::pack_gather(c);
+        #[cfg(not(target_pointer_width = "64"))]
+        return Self::pack_shifts(c);
     }
 }
 
@@ -726,6 +747,28 @@ mod tests {
             reference::<P>(&mut c2[..n], &mut d2[..n], v, &g);
             assert_eq!((c1, d1), (c2, d2), "n {n} v {v:?} g {g:?}");
         }
+    }
+
+    /// The multiply gather (64-bit targets) and the shift-and-masks (32-bit targets)
+    /// read the same pixel from any register: random bits everywhere, including
+    /// between and above the lanes.
+    fn gathers_agree<P: PixelFormat>() {
+        assert!(Packed::<P>::FITS);
+        let mut c = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..100_000 {
+            c ^= c << 13;
+            c ^= c >> 7;
+            c ^= c << 17;
+            assert!(Packed::<P>::pack_gather(c) == Packed::<P>::pack_shifts(c), "{c:#x}");
+        }
+    }
+
+    #[test]
+    fn pack_variants_agree() {
+        gathers_agree::<Rgb565Le>();
+        gathers_agree::<Rgb565Be>();
+        // Rgb888's lanes (3 × 24 bits) do not fit: it takes the scalar loop.
+        assert!(!Packed::<Rgb888>::FITS);
     }
 
     #[test]
