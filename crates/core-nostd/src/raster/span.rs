@@ -759,7 +759,10 @@ mod tests {
             c ^= c << 13;
             c ^= c >> 7;
             c ^= c << 17;
-            assert!(Packed::<P>::pack_gather(c) == Packed::<P>::pack_shifts(c), "{c:#x}");
+            assert!(
+                Packed::<P>::pack_gather(c) == Packed::<P>::pack_shifts(c),
+                "{c:#x}"
+            );
         }
     }
 

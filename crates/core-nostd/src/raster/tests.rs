@@ -809,3 +809,50 @@ fn triangles_partly_outside_are_clipped() {
         &["......"; 5],
     );
 }
+
+/// Small random triangles (sides up to 2 pixels, vertices often on pixel centres and
+/// centre lines): the early-out of a triangle whose box holds no pixel centre draws
+/// exactly what the full setup and walk draw, and it does skip some.
+#[test]
+fn triangles_without_a_centre_in_their_box_skip_the_setup_alone() {
+    use super::setup::setup;
+    use super::{draw_setup, misses_centres};
+    let mut seed = 0x853c_49e6_748f_ea9bu64;
+    let mut rnd = move |n: i32| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n as u64) as i32
+    };
+    let (w, h) = (8u32, 8u32);
+    let mut skipped = 0;
+    for _ in 0..50_000 {
+        // Coordinates near (3, 3) pixels; every fourth one snapped to a centre line.
+        let mut coord = || {
+            let v = 40 + rnd(40);
+            if rnd(4) == 0 {
+                v & !15 | 8
+            } else {
+                v
+            }
+        };
+        let t: Tri = [(coord(), coord()), (coord(), coord()), (coord(), coord())];
+        let v = t.map(sv);
+        let (mut a, mut b) = (vec![0u8; 64], vec![0u8; 64]);
+        let mut fa = Framebuffer::<Mark>::new(&mut a, None, w, h).unwrap();
+        let na = draw_triangle::<Mark, _, Gradient, NoDepth, Flat>(&mut fa, v);
+        let mut fb = Framebuffer::<Mark>::new(&mut b, None, w, h).unwrap();
+        let nb = setup(v).map_or(0, |s| {
+            draw_setup::<Mark, _, Gradient, NoDepth, Flat>(&mut fb, &s)
+        });
+        assert_eq!((na, &a), (nb, &b), "{t:?}");
+        if misses_centres(v) {
+            assert_eq!(nb, 0, "{t:?}");
+            skipped += 1;
+        }
+    }
+    assert!(
+        skipped > 1000,
+        "only {skipped} triangles took the early-out"
+    );
+}
