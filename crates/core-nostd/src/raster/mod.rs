@@ -186,28 +186,10 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    // A method that snaps moves the vertices in its setup: its box is another.
-    if !S::SNAPS && misses_centres(v) {
-        return 0;
-    }
     let Some(s) = S::setup(v) else {
         return 0;
     };
     S::draw::<P, T, Z, Sh>(target, &s)
-}
-
-/// True if no pixel centre lies in the triangle's closed bounding box, so it covers
-/// no pixel under any tie rule: the setup (its division) is skipped. A covered
-/// pixel's centre `16k + 8` lies inside the triangle, hence in the box: column `k`
-/// with `x_min ≤ 16k + 8 ≤ x_max` exists iff `first_row(x_min) < first_row(x_max + 1)`
-/// (the same for rows). Slivers and sub-pixel triangles of a dense mesh are common.
-#[inline(always)]
-fn misses_centres(v: [ScreenVertex; 3]) -> bool {
-    let none = |a: i32, b: i32, c: i32| {
-        // Guard-band coordinates: |a| < 2^17, the + 1 cannot overflow.
-        first_row(a.min(b).min(c)) >= first_row(a.max(b).max(c) + 1)
-    };
-    none(v[0].x, v[1].x, v[2].x) || none(v[0].y, v[1].y, v[2].y)
 }
 
 /// Rasterizes a triangle that has been set up: walks its edges and hands every span

@@ -320,6 +320,7 @@ impl<P: PixelFormat> Packed<P> {
     /// The integer fields of the three lanes: channel k at bits
     /// `[OFF[k] + 16, OFF[k] + 16 + B[k])`.
     /// Zero (unused) for a format whose lanes do not fit.
+    #[cfg(any(test, target_pointer_width = "64"))]
     const FIELDS: u64 = {
         let mut m = 0u64;
         let mut k = 0;
