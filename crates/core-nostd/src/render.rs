@@ -532,11 +532,10 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             Class::Skip => st.culled += 1,
             Class::Draw => {
                 st.drawn += 1;
-                let mut s = t.map(|v| v.s);
-                if !Sh::INTERPOLATE {
-                    s[0].c = s[2].c;
-                    s[1].c = s[2].c;
-                }
+                let s = core::array::from_fn(|k| ScreenVertex {
+                    c: colour(k),
+                    ..t[k].s
+                });
                 st.pixels += if S::SNAPS {
                     draw_triangle::<P, T, S, Z, Sh>(target, s)
                 } else {
