@@ -8,4 +8,9 @@ fn main() {
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rustc-link-arg=-Tlink.x");
+    // Built for ARMv6-M, the image runs on mps2-an385 and names itself so.
+    println!("cargo:rustc-check-cfg=cfg(armv6m)");
+    if std::env::var("TARGET").is_ok_and(|t| t.starts_with("thumbv6m")) {
+        println!("cargo:rustc-cfg=armv6m");
+    }
 }

@@ -24,7 +24,7 @@
 //! ```
 
 use crate::fixed::Q16_16;
-use crate::math::{dot_q30, normalize_to_q30, pow_q30, Mat4, Vec3, ONE_Q30};
+use crate::math::{dot_q30, mul_wide, normalize_to_q30, pow_q30, Mat4, Vec3, ONE_Q30};
 
 /// An RGB colour, Q16.16 per channel, 0..=1 for inputs.
 ///
@@ -223,10 +223,10 @@ enum EyeKind {
 #[derive(Copy, Clone, Debug)]
 struct EyeLight {
     kind: EyeKind,
-    /// la·ka, ld·kd, ls·ks per channel, Q16.16.
-    amb: [i64; 3],
-    dif: [i64; 3],
-    spec: [i64; 3],
+    /// la·ka, ld·kd, ls·ks per channel, Q16.16 (saturated to `i32`).
+    amb: [i32; 3],
+    dif: [i32; 3],
+    spec: [i32; 3],
     has_spec: bool,
 }
 
@@ -261,8 +261,8 @@ pub struct LightingSetup<S: Specular> {
     spec: S::Params,
 }
 
-fn mul_q16(a: Q16_16, b: Q16_16) -> i64 {
-    (a.to_bits() as i64 * b.to_bits() as i64 + (1 << 15)) >> 16
+fn mul_q16(a: Q16_16, b: Q16_16) -> i32 {
+    (a * b).to_bits()
 }
 
 impl<S: Specular> LightingSetup<S> {
@@ -325,7 +325,8 @@ impl<S: Specular> LightingSetup<S> {
             });
         }
         let base = core::array::from_fn(|i| {
-            material.emission[i].to_bits() as i64 + mul_q16(global_ambient[i], material.ambient[i])
+            material.emission[i].to_bits() as i64
+                + mul_q16(global_ambient[i], material.ambient[i]) as i64
         });
         let n = material
             .shininess
@@ -337,6 +338,22 @@ impl<S: Specular> LightingSetup<S> {
             local_viewer,
             spec: S::prepare(n),
         }
+    }
+
+    /// Whether [`Self::shade`] reads the eye-space position: for point lights, and
+    /// for a local viewer's half vector. Without either, the vertex stage skips
+    /// computing it.
+    ///
+    /// ```
+    /// use fixshade::fixed::Q16_16;
+    /// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+    /// use fixshade::math::Mat4;
+    /// let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], [Q16_16::ONE; 3], [Q16_16::ONE; 3]);
+    /// let at = |local| LightingSetup::<BlinnExact>::new(&[sun], &Mat4::IDENTITY, &Material::default(), [Q16_16::ZERO; 3], local);
+    /// assert!(!at(false).needs_position() && at(true).needs_position());
+    /// ```
+    pub fn needs_position(&self) -> bool {
+        self.directional < self.lights.len() || (S::ENABLED && self.local_viewer)
     }
 
     /// The lit colour of a vertex: eye-space position `p` (Q16.16) and unit normal
@@ -406,16 +423,16 @@ impl<S: Specular> LightingSetup<S> {
                 continue;
             };
             for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                *c += amb;
+                *c += *amb as i64;
             }
             let nl = dot_q30(n, l);
             if nl <= 0 {
                 continue;
             }
             // As in `add_light` with attenuation exactly 1.
-            let f = nl as i64 >> 14;
+            let f = nl >> 14;
             for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
-                *c += (dif * f) >> 16;
+                *c += mul_wide(*dif, f) >> 16;
             }
         }
         acc.map(|c| c.clamp(0, 1 << 16) as i32)
@@ -432,20 +449,21 @@ impl<S: Specular> LightingSetup<S> {
         light: &EyeLight,
         n: [i32; 3],
         l: [i32; 3],
-        att: Option<i64>,
+        att: Option<i32>,
         h: impl FnOnce() -> Option<[i32; 3]>,
     ) {
         // `att` None: attenuation exactly 1 (2¹⁶ in Q16.16); its products are
         // skipped, with the same values ((x·2¹⁶) >> 16 = x, (2¹⁶·y) >> 30 = y >> 14).
+        // Otherwise att < 2³¹ (Q16.16), so every product below is a `mul_wide`.
         match att {
             None => {
                 for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                    *c += amb;
+                    *c += *amb as i64;
                 }
             }
             Some(a) => {
                 for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                    *c += (amb * a) >> 16;
+                    *c += mul_wide(*amb, a) >> 16;
                 }
             }
         }
@@ -453,13 +471,13 @@ impl<S: Specular> LightingSetup<S> {
         if nl <= 0 {
             return;
         }
-        // att·(N·L): Q16.16 · Q2.30 → Q16.16.
+        // att·(N·L): Q16.16 · Q2.30 → Q16.16, below 2³¹.
         let f = match att {
-            None => nl as i64 >> 14,
-            Some(a) => (a * nl as i64) >> 30,
+            None => nl >> 14,
+            Some(a) => (mul_wide(a, nl) >> 30) as i32,
         };
         for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
-            *c += (dif * f) >> 16;
+            *c += mul_wide(*dif, f) >> 16;
         }
         if !S::ENABLED || !light.has_spec {
             return;
@@ -470,14 +488,24 @@ impl<S: Specular> LightingSetup<S> {
             return;
         }
         let s = S::eval_wide(&self.spec, nh.min(ONE_Q30));
-        // att ≤ 2^31 (Q16.16) and s ≤ 2^36 (Q.30): the product needs i128 only
-        // for a point light; a directional light's att is exactly 2^16.
+        // s ≤ 2^36 (Q.30): for a directional light (att exactly 2^16) s >> 14 < 2^22;
+        // for a point light att·s/2^30 = att·⌊s/2^30⌋ + att·(s mod 2^30)/2^30, each
+        // part a `mul_wide`, the sum below 2^37.
         let f = match att {
-            None => (s >> 14) as i64,
-            Some(a) => ((a as i128 * s as i128) >> 30) as i64,
+            None => s >> 14,
+            Some(a) => {
+                let (hi, lo) = ((s >> 30) as i32, (s & ((1 << 30) - 1)) as i32);
+                ((mul_wide(a, hi) << 30) + mul_wide(a, lo)) as u64 >> 30
+            }
         };
+        // A factor above 2^31 (only the energy-conserving model under a strong point
+        // light) is split the same way.
         for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
-            *c += (sp * f) >> 16;
+            *c += if f < 1 << 31 {
+                mul_wide(*sp, f as i32) >> 16
+            } else {
+                (mul_wide(*sp, (f >> 16) as i32)) + (mul_wide(*sp, (f & 0xFFFF) as i32) >> 16)
+            };
         }
     }
 }
@@ -675,7 +703,7 @@ impl<S: Specular> LightingSetup<S> {
                         return i64::MAX;
                     };
                     let dmin = (near - edge).max(0);
-                    (cone, attenuation([dmin, 0, 0], att), None)
+                    (cone, attenuation([dmin, 0, 0], att) as i64, None)
                 }
             };
             let max_nl = nc.max_dot(&l_cone);
@@ -711,7 +739,7 @@ impl<S: Specular> LightingSetup<S> {
             let top = light
                 .spec
                 .iter()
-                .map(|sp| (sp * f) >> 16)
+                .map(|sp| (*sp as i64 * f) >> 16)
                 .max()
                 .unwrap_or(0);
             total = total.saturating_add(top + 1);
@@ -749,7 +777,8 @@ impl<S: Specular> LightingSetup<S> {
         let one = ONE_Q30 as i64;
         let mut total: i64 = 0;
         for light in &self.lights {
-            let top = |v: &[i64; 3], f: i64| v.iter().map(|c| (c * f) >> 16).max().unwrap_or(0);
+            let top =
+                |v: &[i32; 3], f: i64| v.iter().map(|c| (*c as i64 * f) >> 16).max().unwrap_or(0);
             match light.kind {
                 EyeKind::Directional { l, .. } => {
                     // With weights wᵢ (Σ wᵢ = 1) and dᵢ = nᵢ·L, Gouraud interpolates
@@ -796,8 +825,8 @@ impl<S: Specular> LightingSetup<S> {
                         return i64::MAX;
                     };
                     // The distance is convex: its maximum is at a vertex.
-                    let att_max = attenuation([(near - edge).max(0), 0, 0], att);
-                    let att_min = attenuation([far, 0, 0], att);
+                    let att_max = attenuation([(near - edge).max(0), 0, 0], att) as i64;
+                    let att_min = attenuation([far, 0, 0], att) as i64;
                     let max_nl = nc.max_dot(&lc).max(0);
                     let inv = Cone {
                         axis: [-lc.axis[0], -lc.axis[1], -lc.axis[2]],
@@ -831,8 +860,9 @@ fn half(l: [i32; 3], v: [i32; 3]) -> Option<[i32; 3]> {
     ])
 }
 
-/// `1 / (c + l·d + q·d²)` in Q16.16 for the Q16.16 offset `d` (saturating at 2¹⁵).
-fn attenuation(d: [i64; 3], att: [Q16_16; 3]) -> i64 {
+/// `1 / (c + l·d + q·d²)` in Q16.16 for the Q16.16 offset `d` (saturating just
+/// below 2¹⁵).
+fn attenuation(d: [i64; 3], att: [Q16_16; 3]) -> i32 {
     // |d| components < 2^32 raw: squares < 2^64, so sum in u128.
     let sq: u128 = d.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
     let dist = crate::math::isqrt_u128(sq) as i128; // Q16.16
@@ -844,9 +874,9 @@ fn attenuation(d: [i64; 3], att: [Q16_16; 3]) -> i64 {
     // Denominator in Q.32: c·2^16 + l·d + q·d²/2^16.
     let den = (c << 16) + l * dist + ((q * dist * dist) >> 16);
     if den <= 0 {
-        return 1 << 31;
+        return i32::MAX;
     }
-    ((1i128 << 48) / den).min(1 << 31) as i64
+    ((1i128 << 48) / den).min(i32::MAX as i128) as i32
 }
 
 #[cfg(test)]

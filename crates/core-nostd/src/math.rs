@@ -23,6 +23,199 @@ pub const ONE_Q32: i64 = 1 << 32;
 /// One in Q2.30.
 pub const ONE_Q30: i32 = 1 << 30;
 
+/// The exact product of two `i32`, as `i64`.
+///
+/// Every per-vertex and per-triangle product of the core goes through this (or
+/// [`mul_wide_u`]) instead of an `i64 × i64` multiply: on ARMv7-M and the host it is
+/// one `SMULL`; on ARMv6-M (`cfg(fixshade_v6m)`, see the crate's build script), which has only
+/// `MULS` (32×32→32), it is four 16×16 products and a few adds (about 23 instructions, no call), where an `i64`
+/// multiply would call `__aeabi_lmul`. Both give the same bits (tested).
+///
+/// ```
+/// use fixshade::math::mul_wide;
+/// assert_eq!(mul_wide(i32::MIN, i32::MIN), 1 << 62);
+/// assert_eq!(mul_wide(-3, 1 << 30), -3 << 30);
+/// ```
+#[inline(always)]
+pub fn mul_wide(a: i32, b: i32) -> i64 {
+    #[cfg(fixshade_v6m)]
+    {
+        mul_wide_split(a, b)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        a as i64 * b as i64
+    }
+}
+
+/// The exact product of two `u32`, as `u64` (see [`mul_wide`]).
+///
+/// ```
+/// use fixshade::math::mul_wide_u;
+/// assert_eq!(mul_wide_u(u32::MAX, u32::MAX), (u32::MAX as u64) * (u32::MAX as u64));
+/// ```
+#[inline(always)]
+pub fn mul_wide_u(a: u32, b: u32) -> u64 {
+    #[cfg(fixshade_v6m)]
+    {
+        mul_wide_u_split(a, b)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        a as u64 * b as u64
+    }
+}
+
+/// The exact product of an `i32` and an `i16`, as `i64`: one `SMULL` on ARMv7-M
+/// and the host, two 16×16-bit products on ARMv6-M (see [`mul_wide`]).
+///
+/// ```
+/// use fixshade::math::mul_wide_16;
+/// assert_eq!(mul_wide_16(i32::MIN, i16::MIN), 1 << 46);
+/// ```
+#[inline(always)]
+pub fn mul_wide_16(a: i32, b: i16) -> i64 {
+    #[cfg(fixshade_v6m)]
+    {
+        mul_wide_16_split(a, b)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        a as i64 * b as i64
+    }
+}
+
+/// [`mul_wide_16`] from two 16×16-bit products: `a·b = ah·b·2¹⁶ + al·b` with `ah`
+/// signed and `al` unsigned; `|ah·b|` ≤ 2³⁰ and `|al·b|` < 2³¹ fit `i32`.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn mul_wide_16_split(a: i32, b: i16) -> i64 {
+    let b = b as i32;
+    (((a >> 16) * b) as i64) * (1 << 16) + ((a & 0xFFFF) * b) as i64
+}
+
+/// [`mul_wide`] from 16×16-bit products: `a·b = ah·bh·2³² + (ah·bl + al·bh)·2¹⁶ +
+/// al·bl` with `ah`, `bh` the signed high halves and `al`, `bl` the unsigned low
+/// halves. Bounds: `|ah·bl|`, `|al·bh|` ≤ 2¹⁵·(2¹⁶ − 1) < 2³¹ fit `i32`; `al·bl` <
+/// 2³² fits `u32`; the middle sum is taken in `i64`.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn mul_wide_split(a: i32, b: i32) -> i64 {
+    let (ah, al) = (a >> 16, a & 0xFFFF);
+    let (bh, bl) = (b >> 16, b & 0xFFFF);
+    let lo = (al as u32).wrapping_mul(bl as u32);
+    let mid = (ah * bl) as i64 + (al * bh) as i64;
+    (((ah * bh) as i64) << 32) + (mid << 16) + lo as i64
+}
+
+/// [`mul_wide_u`] from 16×16-bit products (every partial product fits `u32`, the
+/// middle sum is taken in `u64`).
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn mul_wide_u_split(a: u32, b: u32) -> u64 {
+    let (ah, al) = (a >> 16, a & 0xFFFF);
+    let (bh, bl) = (b >> 16, b & 0xFFFF);
+    let mid = (ah * bl) as u64 + (al * bh) as u64;
+    (((ah * bh) as u64) << 32) + (mid << 16) + (al * bl) as u64
+}
+
+/// Leading zero bits of `x` (32 for 0): `CLZ` where the core has it, a five-step
+/// binary search on ARMv6-M (which has no `CLZ`; the library's `leading_zeros` would
+/// call `__clzsi2` there).
+///
+/// ```
+/// use fixshade::math::leading_zeros;
+/// assert_eq!((leading_zeros(0), leading_zeros(1), leading_zeros(u32::MAX)), (32, 31, 0));
+/// ```
+#[inline(always)]
+pub fn leading_zeros(x: u32) -> u32 {
+    #[cfg(fixshade_v6m)]
+    {
+        leading_zeros_search(x)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        x.leading_zeros()
+    }
+}
+
+/// [`leading_zeros`] by binary search (16, 8, 4, 2, 1 bits).
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn leading_zeros_search(mut x: u32) -> u32 {
+    if x == 0 {
+        return 32;
+    }
+    let mut n = 0;
+    if x >> 16 == 0 {
+        n += 16;
+        x <<= 16;
+    }
+    if x >> 24 == 0 {
+        n += 8;
+        x <<= 8;
+    }
+    if x >> 28 == 0 {
+        n += 4;
+        x <<= 4;
+    }
+    if x >> 30 == 0 {
+        n += 2;
+        x <<= 2;
+    }
+    if x >> 31 == 0 {
+        n += 1;
+    }
+    n
+}
+
+/// Seeds of [`recip_q61`]: `RECIP_SEED[i] = ⌊2²⁴ / (i + 256.5) + ½⌋` for the top nine
+/// bits `i + 256` of an argument in [2³⁰, 2³¹) (512 bytes of flash; the seed is
+/// within 2⁻⁹ of the reciprocal, relatively).
+const RECIP_SEED: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        // 2^24 / (i + 256.5) = 2^25 / (2i + 513), rounded.
+        t[i] = (((1u32 << 26) / (2 * i as u32 + 513) + 1) / 2) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// `2⁶¹ / m` for `m` in [2³⁰, 2³¹), to within 2 units (result in (2³⁰, 2³¹ − 1]): a table
+/// seed and two Newton steps `r ← r + r·(2⁶¹ − m·r)/2⁶¹`, four [`mul_wide`]-class
+/// products and no division (seed 002 §2.4's idea of a reciprocal without a divider,
+/// refined by Newton as the design asks for ARMv6-M).
+///
+/// Bounds: the seed `r₀` is within 2⁻⁹ of `2⁶¹/m`, so `e = 2⁶¹ − m·r` is below
+/// 2⁵³ in magnitude (2⁴⁴ after the first step) and `e >> 29` fits `i32`; `r`, kept
+/// below 2³¹ so that it is an `i32` too, times `e >> 29` is below 2³¹·2²⁴ in
+/// magnitude. Each step squares the relative error (2⁻¹⁸, then below 2⁻³⁰ plus the
+/// truncations of the shifts, under one unit each), which the tests check over the
+/// whole range.
+///
+/// ```
+/// use fixshade::math::recip_q61;
+/// assert!(recip_q61(1 << 30).abs_diff(1 << 31) <= 2);
+/// let m = 3 << 29; // 1.5·2^30
+/// assert!(recip_q61(m).abs_diff(((1u64 << 61) / m as u64) as u32) <= 2);
+/// ```
+#[inline]
+pub fn recip_q61(m: u32) -> u32 {
+    debug_assert!((1 << 30..1 << 31).contains(&m));
+    // m >> 22 is in [256, 512): its low eight bits index the table.
+    let mut r = (RECIP_SEED[((m >> 22) & 0xFF) as usize] as u32) << 15;
+    let mut k = 0;
+    while k < 2 {
+        let e = (1i64 << 61) - mul_wide_u(m, r) as i64;
+        let next = r as i64 + (mul_wide(r as i32, (e >> 29) as i32) >> 32);
+        r = next.min(i32::MAX as i64) as u32;
+        k += 1;
+    }
+    r
+}
+
 /// Floor of the square root of a `u128` (the core library's exact integer root).
 ///
 /// ```
@@ -487,16 +680,14 @@ impl ClipMatrix {
     /// 2³¹·2³⁰ = 2⁶¹ and the sum of four below 2⁶³, so the `i64` sums cannot overflow.
     #[inline]
     pub fn transform(&self, p: &Vec3) -> [i64; 4] {
-        let (x, y, z) = (
-            p[0].to_bits() as i64,
-            p[1].to_bits() as i64,
-            p[2].to_bits() as i64,
-        );
+        let (x, y, z) = (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
         let mut r = [0i64; 4];
         for (i, out) in r.iter_mut().enumerate() {
             let row = &self.m[i];
-            *out =
-                row[0] as i64 * x + row[1] as i64 * y + row[2] as i64 * z + ((row[3] as i64) << 16);
+            *out = mul_wide(row[0], x)
+                + mul_wide(row[1], y)
+                + mul_wide(row[2], z)
+                + ((row[3] as i64) << 16);
         }
         r
     }
@@ -576,9 +767,9 @@ impl Affine3 {
         let mut r = [0i32; 3];
         for (i, out) in r.iter_mut().enumerate() {
             let l = &self.linear[i];
-            let acc = l[0] as i64 * p[0].to_bits() as i64
-                + l[1] as i64 * p[1].to_bits() as i64
-                + l[2] as i64 * p[2].to_bits() as i64;
+            let acc = mul_wide(l[0], p[0].to_bits())
+                + mul_wide(l[1], p[1].to_bits())
+                + mul_wide(l[2], p[2].to_bits());
             *out = crate::fixed::sat_i64_to_i32(
                 ((acc + (1 << 15)) >> 16) + self.translation[i] as i64,
             );
@@ -588,47 +779,25 @@ impl Affine3 {
 }
 
 /// Shifts a non-zero vector so its largest component lies in [2²⁹, 2³⁰) and returns
-/// the shifted components with their sum of squares (in [2⁵⁸, 3·2⁶⁰): squares
-/// < 2⁶⁰, sum < 2⁶²). `None` for the zero vector.
+/// the shifted components (now `i32`) with their sum of squares (in [2⁵⁸, 3·2⁶⁰):
+/// squares < 2⁶⁰ by [`mul_wide`], sum < 2⁶²). `None` for the zero vector.
 #[inline]
-fn scale_for_length(v: [i64; 3]) -> Option<(i64, i64, i64, u64)> {
-    let max = v[0]
-        .unsigned_abs()
-        .max(v[1].unsigned_abs())
-        .max(v[2].unsigned_abs());
+fn scale_for_length(v: [i64; 3]) -> Option<(i32, i32, i32, u64)> {
+    let max = v[0].unsigned_abs() | v[1].unsigned_abs() | v[2].unsigned_abs();
     if max == 0 {
         return None;
     }
-    let bits = 64 - max.leading_zeros() as i32;
+    let hi = (max >> 32) as u32;
+    let bits = if hi != 0 {
+        64 - leading_zeros(hi)
+    } else {
+        32 - leading_zeros(max as u32)
+    } as i32;
     let shift = bits - 30;
-    let s = |c: i64| if shift >= 0 { c >> shift } else { c << -shift };
+    let s = |c: i64| (if shift >= 0 { c >> shift } else { c << -shift }) as i32;
     let (x, y, z) = (s(v[0]), s(v[1]), s(v[2]));
-    Some((x, y, z, (x * x + y * y + z * z) as u64))
-}
-
-/// Normalises an `i64` vector to Q2.30 unit length. `None` for the zero vector.
-/// The components are first shifted so the largest is below 2³¹, then the length is
-/// an exact integer square root of an i64 sum of squares (< 3·2⁶²... bounded by
-/// shifting to below 2³⁰·√(2) per component).
-///
-/// ```
-/// use fixshade::math::{normalize_to_q30, ONE_Q30};
-/// assert_eq!(normalize_to_q30([0, -7, 0]), Some([0, -ONE_Q30, 0]));
-/// let n = normalize_to_q30([1, 1, 0]).unwrap();
-/// assert!((n[0] - 759_250_125).abs() <= 1); // 2^30 / √2
-/// ```
-#[inline]
-pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
-    let (x, y, z, sq) = scale_for_length(v)?;
-    let len = isqrt_scaled(sq) as i64; // ≥ 2^29
-    if len == 0 {
-        return None;
-    }
-    // One reciprocal instead of three divisions: inv = ⌊2^61 / len⌋ < 2^32, and
-    // |c|·inv < 2^30·2^32 fits i64; the result is within one unit of c·2^30/len.
-    let inv = (1i64 << 61) / len;
-    let d = |c: i64| ((c * inv + (1 << 30)) >> 31) as i32;
-    Some([d(x), d(y), d(z)])
+    let sq = mul_wide(x, x) + mul_wide(y, y) + mul_wide(z, z);
+    Some((x, y, z, sq as u64))
 }
 
 /// Seeds of [`rsqrt_q61`]: `RSQRT_SEED[i] ≈ 2⁶¹ / √((i + 64.5)·2⁵⁴)` for the top eight
@@ -647,79 +816,57 @@ const RSQRT_SEED: [u32; 192] = {
     t
 };
 
-/// `⌊2⁶¹/√s⌋` to within 4 units, for `s` in [2⁶⁰, 2⁶²): a table seed
-/// (`RSQRT_SEED`, 8 bits) and two Newton steps `r ← r·(3 − s·r²)/2`, each in
-/// 64-bit products (no division, no square root).
+/// `2⁶¹/√s` to within 4 units, below 2³¹, for `s` in [2⁶⁰, 2⁶²): a table seed
+/// (`RSQRT_SEED`, 8 bits) and two Newton steps `r ← r·(3 − s·r²)/2`, each three
+/// 32×32→64-bit products ([`mul_wide_u`]; no division, no square root).
 ///
-/// Bounds: `r` ∈ (2³⁰, 2³¹]; `r²/2³²` < 2³⁰; times `s/2³⁰` < 2³² gives < 2⁶²;
+/// Bounds: `r` ∈ (2³⁰, 2³¹); `r²/2³²` < 2³⁰; times `s/2³⁰` < 2³² gives < 2⁶²;
 /// `3·2³⁰ − y` ∈ (0, 2³²) for y within 2⁻⁷ of 2³⁰, and `r·(3·2³⁰ − y)` < 2⁶³.
 ///
 /// ```
 /// use fixshade::math::rsqrt_q61;
-/// // 2^61 / √(2^60) = 2^31.
+/// // 2^61 / √(2^60) = 2^31 (just above the range of the result).
 /// assert!(rsqrt_q61(1 << 60).abs_diff(1 << 31) <= 4);
 /// ```
 #[inline]
 pub fn rsqrt_q61(s: u64) -> u64 {
-    let mut r = RSQRT_SEED[((s >> 54) - 64) as usize] as u64;
-    let sn = s >> 30; // [2^30, 2^32)
+    // s >> 54 is in [64, 256); the index is below 192.
+    let mut r = RSQRT_SEED[(((s >> 54) as usize).wrapping_sub(64)).min(191)];
+    let sn = (s >> 30) as u32; // [2^30, 2^32)
     let mut k = 0;
     while k < 2 {
         // y = s·r²/2¹²² in Q30 ≈ 2³⁰.
-        let y = (((r * r) >> 32) * sn) >> 30;
-        r = (r * ((3u64 << 30) - y)) >> 31;
+        let r2 = (mul_wide_u(r, r) >> 32) as u32;
+        let y = (mul_wide_u(r2, sn) >> 30) as u32;
+        r = ((mul_wide_u(r, (3u32 << 30).wrapping_sub(y)) >> 31) as u32).min(i32::MAX as u32);
         k += 1;
     }
-    r
+    r as u64
 }
 
-/// `⌊√n⌋`, exactly as [`isqrt_u64`], for the sums of squares [`scale_for_length`]
-/// gives (`n` in [2⁵⁸, 2⁶²)) without a division: the estimate `n·rsqrt(n)` and a
-/// correction of it to the floor. Other `n` go to [`isqrt_u64`].
-///
-/// Bounds: `s = n·4^j` in [2⁶⁰, 2⁶²), `r` within 4 units of `2⁶¹/√s` in
-/// (2³⁰, 2³¹]; `(s >> 31)·r` < 2³¹·2³¹; the estimate `y` is within 16 units of √n
-/// (relative error of `r` below 2⁻²⁸ on √s < 2³¹, plus truncations), and
-/// `(y + 1)²` ≤ 2⁶² fits u64. The loops end at the unique `y` with
-/// `y² ≤ n < (y + 1)²`.
-#[inline]
-fn isqrt_scaled(n: u64) -> u64 {
-    if !(1u64 << 58..1u64 << 62).contains(&n) {
-        return isqrt_u64(n);
-    }
-    let j = if n < 1 << 60 { 1 } else { 0 };
-    let s = n << (2 * j);
-    let mut y = (((s >> 31) * rsqrt_q61(s)) >> 30) >> j;
-    while y * y > n {
-        y -= 1;
-    }
-    while (y + 1) * (y + 1) <= n {
-        y += 1;
-    }
-    y
-}
-
-/// Normalises like [`normalize_to_q30`], but with the reciprocal square root of
-/// [`rsqrt_q61`] instead of an integer square root and a division: the per-pixel
-/// renormalisation of Phong shading. Each component is within 4 units (Q2.30) of
-/// [`normalize_to_q30`]'s (tested).
+/// Normalises an `i64` vector to Q2.30 unit length without a square root or a
+/// division: the components are shifted so the largest lies in [2²⁹, 2³⁰), the sum
+/// of their squares `n` (in [2⁵⁸, 3·2⁶⁰)) is brought into [2⁶⁰, 2⁶²) by an even
+/// shift, and each component is multiplied by [`rsqrt_q61`] of it. Each component
+/// is within 4 units (Q2.30) of the exact normalisation (tested). `None` for the
+/// zero vector.
 ///
 /// ```
-/// use fixshade::math::{normalize_fast_q30, normalize_to_q30};
-/// let v = [123_456, -98_765, 4_321];
-/// let (a, b) = (normalize_fast_q30(v).unwrap(), normalize_to_q30(v).unwrap());
-/// assert!((0..3).all(|k| (a[k] - b[k]).abs() <= 4));
+/// use fixshade::math::{normalize_to_q30, ONE_Q30};
+/// assert_eq!(normalize_to_q30([0, -7, 0]).map(|n| n[1].abs_diff(-ONE_Q30) <= 4), Some(true));
+/// let n = normalize_to_q30([1, 1, 0]).unwrap();
+/// assert!((n[0] - 759_250_125).abs() <= 4); // 2^30 / √2
 /// ```
 #[inline]
-pub fn normalize_fast_q30(v: [i64; 3]) -> Option<[i32; 3]> {
+pub fn normalize_to_q30(v: [i64; 3]) -> Option<[i32; 3]> {
     let (x, y, z, sq) = scale_for_length(v)?;
     // Bring the sum into [2^60, 2^62) with an even shift 2j (j = 0 or 1):
     // √(sq·4^j) = len·2^j.
     let j = if sq < 1 << 60 { 1 } else { 0 };
-    let r = rsqrt_q61(sq << (2 * j)) as i64; // 2^61/(len·2^j), in (2^30, 2^31]
-                                             // c·2^30/len = c·r·2^j/2^31; |c| < 2^30, r ≤ 2^31: the product is below 2^61.
+    let r = rsqrt_q61(sq << (2 * j)) as i32; // 2^61/(len·2^j), in (2^30, 2^31)
+                                             // c·2^30/len = c·r·2^j/2^31; |c| < 2^30, r < 2^31: the product is below 2^61.
     let sh = 31 - j;
-    let d = |c: i64| ((c * r + (1 << (sh - 1))) >> sh) as i32;
+    let d = |c: i32| ((mul_wide(c, r) + (1 << (sh - 1))) >> sh) as i32;
     Some([d(x), d(y), d(z)])
 }
 
@@ -732,7 +879,7 @@ pub fn normalize_fast_q30(v: [i64; 3]) -> Option<[i32; 3]> {
 /// ```
 #[inline]
 pub fn dot_q30(a: [i32; 3], b: [i32; 3]) -> i32 {
-    let s = a[0] as i64 * b[0] as i64 + a[1] as i64 * b[1] as i64 + a[2] as i64 * b[2] as i64;
+    let s = mul_wide(a[0], b[0]) + mul_wide(a[1], b[1]) + mul_wide(a[2], b[2]);
     crate::fixed::sat_i64_to_i32((s + (1 << 29)) >> 30)
 }
 
@@ -752,19 +899,22 @@ const EXP2_TABLE: [u64; 30] = {
 
 /// log₂ of `c` in Q2.30 (0 < c ≤ 2³⁰, i.e. (0, 1]), result in Q.30 (≤ 0).
 /// Bit-by-bit squaring: 30 exact iterations, error ≤ 2·2⁻³⁰.
-fn log2_q30(c: u32) -> i64 {
+/// Returned as `(k, y)` with log₂ c = −k + y·2⁻³⁰, `k` ≤ 30 and `y` < 2³⁰.
+fn log2_q30(c: u32) -> (i32, i32) {
     debug_assert!(c > 0);
-    let k = c.leading_zeros() as i64 - 1; // c << k in [2^30, 2^31)
-    let mut m = (c as u64) << k;
-    let mut y: i64 = 0;
+    let k = leading_zeros(c) as i32 - 1; // c << k in [2^30, 2^31)
+    let mut m = c << k;
+    let mut y = 0;
     for i in 1..=30 {
-        m = (m * m) >> 30; // m in [2^30, 2^32): m² < 2^64
-        if m >= 1 << 31 {
-            m >>= 1;
+        let sq = mul_wide_u(m, m) >> 30; // m in [2^30, 2^32): m² < 2^64
+        if sq >= 1 << 31 {
+            m = (sq >> 1) as u32;
             y |= 1 << (30 - i);
+        } else {
+            m = sq as u32;
         }
     }
-    -(k << 30) + y
+    (k, y)
 }
 
 /// 2^t for t ≤ 0 in Q.30, result Q2.30.
@@ -777,7 +927,8 @@ fn exp2_q30(t: i64) -> u32 {
     let mut r: u64 = 1 << 30;
     for (i, e) in EXP2_TABLE.iter().enumerate() {
         if f & (1 << (29 - i)) != 0 {
-            r = (r * e + (1 << 29)) >> 30; // r < 2^31, e < 2^31: product < 2^62
+            // r < 2^31, e < 2^31: product < 2^62.
+            r = (mul_wide_u(r as u32, *e as u32) + (1 << 29)) >> 30;
         }
     }
     // r in [2^30, 2^31); shift by -ip.
@@ -810,22 +961,25 @@ pub fn pow_q30(c: i32, n: Q16_16) -> i32 {
         return ONE_Q30;
     }
     if nb & 0xFFFF == 0 {
+        // Factors ≤ 2^30: products ≤ 2^60, results ≤ 2^30.
         let mut e = (nb >> 16) as u32;
-        let mut base = c as u64;
-        let mut acc: u64 = 1 << 30;
+        let mut base = c as u32;
+        let mut acc: u32 = 1 << 30;
         while e > 0 {
             if e & 1 == 1 {
-                acc = (acc * base + (1 << 29)) >> 30;
+                acc = ((mul_wide_u(acc, base) + (1 << 29)) >> 30) as u32;
             }
             e >>= 1;
             if e > 0 {
-                base = (base * base + (1 << 29)) >> 30;
+                base = ((mul_wide_u(base, base) + (1 << 29)) >> 30) as u32;
             }
         }
         return acc as i32;
     }
-    let l = log2_q30(c as u32); // ≥ -30·2^30
-    let t = (l * nb as i64) >> 16; // |l·n| < 2^35 · 2^26 = 2^61
+    // n·log₂ c = −k·n + y·n·2⁻³⁰ (Q.30 after the shift by 16): k·nb ≤ 31·2^26 fits i32,
+    // y·nb < 2^56; |l·n| < 2^61 as before.
+    let (k, y) = log2_q30(c as u32);
+    let t = ((-((k * nb) as i64) << 30) + mul_wide(y, nb)) >> 16;
     exp2_q30(t) as i32
 }
 
@@ -867,25 +1021,113 @@ mod tests {
         }
     }
 
+    /// xorshift64 for the randomised tests.
+    fn xorshift(seed: &mut u64) -> u64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        *seed
+    }
+
     #[test]
-    fn fast_normalize_matches_exact() {
+    fn split_products_equal_native() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let edges = [
+            0,
+            1,
+            -1,
+            0xFFFF,
+            0x10000,
+            -0x10000,
+            i32::MAX,
+            i32::MIN,
+            0x7FFF,
+            -0x8000,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                assert_eq!(mul_wide_split(a, b), a as i64 * b as i64, "{a} {b}");
+                let (ua, ub) = (a as u32, b as u32);
+                assert_eq!(mul_wide_u_split(ua, ub), ua as u64 * ub as u64);
+                assert_eq!(mul_wide_16_split(a, b as i16), a as i64 * (b as i16) as i64);
+            }
+        }
+        for _ in 0..1_000_000 {
+            let r = xorshift(&mut seed);
+            let (a, b) = (r as i32 >> (r >> 59), (r >> 32) as i32 >> ((r >> 54) & 31));
+            assert_eq!(mul_wide_split(a, b), a as i64 * b as i64, "{a} {b}");
+            let (ua, ub) = (r as u32, (r >> 32) as u32);
+            assert_eq!(mul_wide_u_split(ua, ub), ua as u64 * ub as u64);
+            assert_eq!(mul_wide_16_split(a, b as i16), a as i64 * (b as i16) as i64);
+        }
+    }
+
+    #[test]
+    fn leading_zeros_search_equals_clz() {
+        let mut seed = 0x5555_0123_aaaa_4567u64;
+        for k in 0..=32 {
+            let x = if k == 32 { 0 } else { 1u32 << k };
+            assert_eq!(leading_zeros_search(x), x.leading_zeros());
+            assert_eq!(
+                leading_zeros_search(x.wrapping_sub(1)),
+                x.wrapping_sub(1).leading_zeros()
+            );
+        }
+        for _ in 0..100_000 {
+            let x = (xorshift(&mut seed) as u32) >> (seed % 32);
+            assert_eq!(leading_zeros_search(x), x.leading_zeros());
+        }
+    }
+
+    #[test]
+    fn recip_is_within_two_units() {
+        let check = |m: u32| {
+            let want = (1u64 << 61) as f64 / m as f64;
+            let got = recip_q61(m);
+            assert!((got as f64 - want).abs() <= 2.0, "m {m}: {got} vs {want}");
+            assert!(got < 1 << 31);
+        };
+        // Every seed bucket's ends and middle, and random arguments.
+        for i in 0..256u32 {
+            let lo = (256 + i) << 22;
+            for m in [lo, lo + 1, lo + (1 << 21), lo + (1 << 22) - 1] {
+                check(m);
+            }
+        }
+        let mut seed = 0x0123_4567_89ab_cdefu64;
+        for _ in 0..2_000_000 {
+            check((xorshift(&mut seed) as u32 >> 1) | (1 << 30));
+        }
+    }
+
+    /// The exact normalisation in Q2.30, rounded to nearest: `c·2³⁰/|v|` with the
+    /// length from an exact `u128` square root (`|v|` is irrational in general; the
+    /// floor of `|v|·2⁴⁰` keeps the error far below one unit).
+    fn exact_normalize(v: [i64; 3]) -> [i64; 3] {
+        let sq: u128 = v.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
+        // |v|·2^k with k chosen so the root has ~62 significant bits.
+        let k = (60 - (128 - sq.leading_zeros() as i32) / 2).max(0) as u32;
+        let len = isqrt_u128(sq << (2 * k)) as i128; // |v|·2^k
+        v.map(|c| {
+            let n = ((c as i128) << (30 + k)) * 2 + len;
+            n.div_euclid(2 * len) as i64
+        })
+    }
+
+    #[test]
+    fn normalize_is_within_four_units_of_exact() {
         let mut worst = 0;
         let mut seed = 0x1234_5678_9abc_def0u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
-        for k in 0..200_000 {
-            let mag = (k % 60) as u32 + 1;
-            let v: [i64; 3] = core::array::from_fn(|_| (next() as i64) >> (64 - mag));
-            let (a, b) = (normalize_to_q30(v), normalize_fast_q30(v));
-            assert_eq!(a.is_some(), b.is_some(), "{v:?}");
-            if let (Some(a), Some(b)) = (a, b) {
-                for i in 0..3 {
-                    worst = worst.max((a[i] - b[i]).abs());
-                }
+        for k in 0..400_000 {
+            let mag = (k % 62) as u32 + 1;
+            let v: [i64; 3] = core::array::from_fn(|_| (xorshift(&mut seed) as i64) >> (64 - mag));
+            let Some(got) = normalize_to_q30(v) else {
+                assert_eq!(v, [0; 3]);
+                continue;
+            };
+            let want = exact_normalize(v);
+            for i in 0..3 {
+                worst = worst.max((got[i] as i64 - want[i]).abs());
             }
         }
         // Also the extremes of the seed table.
@@ -895,38 +1137,6 @@ mod tests {
             assert!((r - want).abs() <= 4.0, "s={s} r={r} want={want}");
         }
         assert!(worst <= 4, "worst {worst}");
-    }
-
-    #[test]
-    fn scaled_isqrt_equals_isqrt() {
-        let mut seed = 0x0fed_cba9_8765_4321u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
-        let check = |n: u64| assert_eq!(isqrt_scaled(n), isqrt_u64(n), "n = {n}");
-        for _ in 0..300_000 {
-            let n = next();
-            check(n >> (n % 7)); // mostly in [2^57, 2^64), across the fast range
-            let r = (n >> 33) | (1 << 29); // squares in the fast range and their neighbours
-            for d in [-1i64, 0, 1] {
-                check((r * r).wrapping_add(d as u64));
-            }
-        }
-        for n in [
-            0,
-            1,
-            (1 << 58) - 1,
-            1 << 58,
-            (1 << 60) - 1,
-            1 << 60,
-            (1 << 62) - 1,
-            1 << 62,
-        ] {
-            check(n);
-        }
     }
 
     #[test]

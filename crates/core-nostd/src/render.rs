@@ -59,7 +59,7 @@ use crate::divide::{Divide, Exact};
 use crate::fixed::Q16_16;
 use crate::geometry::{normalize_clip, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
-use crate::math::{normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
+use crate::math::{mul_wide_16, normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{
     self, draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
@@ -380,13 +380,16 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
                     }
                 }
             }
-            // 3. Light the vertices that are needed.
+            // 3. Light the vertices that are needed (the eye-space position only
+            //    where a point light or a local viewer reads it).
+            let at = light.needs_position();
             for ((o, p), n) in out.iter_mut().zip(mesh.positions()).zip(mesh.normals()) {
                 if o.flags & NEEDED == 0 {
                     continue;
                 }
                 let unit = eye_normal(&aff, n);
-                o.s.c = to_channels::<P>(light.shade(aff.point(p), unit));
+                let p = if at { aff.point(p) } else { [0; 3] };
+                o.s.c = to_channels::<P>(light.shade(p, unit));
             }
             // Capacity equals the scene's object capacity.
             let _ = objects.push(Prepared { clip, offset });
@@ -1009,10 +1012,10 @@ fn clip_w(persp: Option<Perspective>, clip: &ClipMatrix, pos: &[Vec3], tri: [u16
 /// `(0, 0, 1)` for a zero normal.
 fn eye_normal(aff: &Affine3, n: &[crate::fixed::Q2_14; 3]) -> [i32; 3] {
     let nm = &aff.normal;
-    let nv = n.map(|c| c.to_bits() as i64);
+    let nv = n.map(|c| c.to_bits());
     // Entries < 2^31, components < 2^15: sums of three < 2^48.
     let ne: [i64; 3] = core::array::from_fn(|r| {
-        nm[r][0] as i64 * nv[0] + nm[r][1] as i64 * nv[1] + nm[r][2] as i64 * nv[2]
+        mul_wide_16(nm[r][0], nv[0]) + mul_wide_16(nm[r][1], nv[1]) + mul_wide_16(nm[r][2], nv[2])
     });
     normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30])
 }

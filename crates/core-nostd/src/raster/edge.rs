@@ -137,7 +137,8 @@ impl EdgeStepper {
 /// ```
 #[inline]
 pub fn first_row(y: i32) -> i32 {
-    ceil_div(y as i64 - 8, 16) as i32
+    // ⌈(y − 8)/16⌉ = ⌊(y + 7)/16⌋: an arithmetic shift (in i64, so no y overflows).
+    ((y as i64 + 7) >> 4) as i32
 }
 
 #[cfg(test)]

@@ -186,10 +186,12 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    let Some(s) = S::setup(v) else {
-        return 0;
-    };
-    S::draw::<P, T, Z, Sh>(target, &s)
+    // Drawn from inside the Option: moving the set-up triangle out of it would copy
+    // it (the setup is out of line on bare-metal targets).
+    match &S::setup(v) {
+        Some(s) => S::draw::<P, T, Z, Sh>(target, s),
+        None => 0,
+    }
 }
 
 /// Rasterizes a triangle that has been set up: walks its edges and hands every span
@@ -377,8 +379,13 @@ where
         let x0 = left.q.max(0);
         let x1 = right.q.min(width);
         if x0 < x1 {
-            let skip = x0.wrapping_sub(left.q);
-            let v = core::array::from_fn(|k| vl[k].wrapping_add(skip.wrapping_mul(s.gx[k])));
+            // A span cut by the frame's left edge starts `skip` pixels into the row.
+            let v = if x0 == left.q {
+                vl
+            } else {
+                let skip = x0.wrapping_sub(left.q);
+                core::array::from_fn(|k| vl[k].wrapping_add(skip.wrapping_mul(s.gx[k])))
+            };
             let edges = match (&la, &ra) {
                 (Some(l), Some(r)) => EdgeValues {
                     left: *left,

@@ -11,7 +11,7 @@
 //! interpolation, far below the normal's own LSB.
 //!
 //! Per pixel: the depth test first (a hidden pixel is not lit), then
-//! [`normalize_fast_q30`] (a table-seeded reciprocal square root with two Newton
+//! [`crate::math::normalize_to_q30`] (a table-seeded reciprocal square root with two Newton
 //! steps, no division), then the [`PixelLight`] — the frame's Blinn lighting with its
 //! specular model — then pack and store. Normals that interpolate to zero length
 //! (opposite vertex normals) are lit with the view direction's normal `(0, 0, 1)`.
@@ -47,7 +47,7 @@ use super::setup::{setup_with_det_div, Det, Setup, ROUND_BIAS};
 use super::span::{depth_of, DepthMode};
 use super::{row_range, scan, ScreenVertex};
 use crate::divide::{Divide, Exact};
-use crate::math::{normalize_fast_q30, ONE_Q30};
+use crate::math::{normalize_to_q30, ONE_Q30};
 use crate::sampler::{fill_row, PixelFn, Threshold};
 use crate::target::{to_channels, PixelFormat, Target};
 
@@ -247,7 +247,7 @@ pub(super) fn shade_pixel<P: PixelFormat, L: PixelLight>(c: &mut P::Raw, a: &[i6
 /// The lit colour of a pixel from its lattice values, as rounded channel integers.
 #[inline(always)]
 fn lit_channels<P: PixelFormat, L: PixelLight>(a: &[i64; PA], light: &L) -> [u32; 3] {
-    let n = normalize_fast_q30([a[0], a[1], a[2]]).unwrap_or([0, 0, ONE_Q30]);
+    let n = normalize_to_q30([a[0], a[1], a[2]]).unwrap_or([0, 0, ONE_Q30]);
     // Positions are Q16.16 with 16 extra bits; covered pixels lie between the
     // vertices, so the shifted value fits i32.
     let p = [

@@ -24,6 +24,7 @@
 use super::edge::first_row;
 use super::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
+use crate::math::{leading_zeros, mul_wide, recip_q61};
 
 /// Number of interpolated attributes: three colour channels and depth.
 pub const ATTRS: usize = 4;
@@ -180,7 +181,182 @@ pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// ```
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
+    if D::EXACT {
+        return setup_fast(v);
+    }
     setup_with_det_div::<D>(v).map(|(s, _)| s)
+}
+
+/// The indices of three vertices sorted by `(y, x)`, from three compare-exchanges.
+/// Two vertices with equal keys coincide, so the triangle has zero area and is
+/// rejected whatever their order.
+#[inline(always)]
+fn order3(v: &[ScreenVertex; 3]) -> [usize; 3] {
+    // (y, x) as one i64 key: y above x, x biased to be non-negative.
+    let key = |p: &ScreenVertex| ((p.y as i64) << 32) + (p.x as i64 - i32::MIN as i64);
+    let k = [key(&v[0]), key(&v[1]), key(&v[2])];
+    let mut o = [0, 1, 2];
+    if k[o[1]] < k[o[0]] {
+        o.swap(0, 1);
+    }
+    if k[o[2]] < k[o[1]] {
+        o.swap(1, 2);
+        if k[o[1]] < k[o[0]] {
+            o.swap(0, 1);
+        }
+    }
+    o
+}
+
+/// `v` sorted by `(y, x)` ([`order3`]).
+#[inline(always)]
+fn sort3(v: [ScreenVertex; 3]) -> [ScreenVertex; 3] {
+    let [a, b, c] = order3(&v);
+    [v[a], v[b], v[c]]
+}
+
+/// Bit length of `v` (0 for 0).
+#[inline(always)]
+fn bit_len(v: u64) -> u32 {
+    let hi = (v >> 32) as u32;
+    if hi != 0 {
+        64 - leading_zeros(hi)
+    } else {
+        32 - leading_zeros(v as u32)
+    }
+}
+
+/// [`setup`] in 32-bit products: the setup of the exact divider without a 64-bit
+/// division or an `i128` product, falling back to [`setup_with_det_div`] for the
+/// triangles where its error bound does not hold (slivers, values outside the
+/// documented ranges).
+///
+/// With `|det|` cut to a 31-bit mantissa `m` (`|det| = m·2^(bits − 31)`, relative
+/// error below 2⁻³⁰) and `R = recip_q61(m)` (relative error below 2⁻²⁹), the four
+/// **barycentric basis values** `16·dy₂/det`, `−16·dy₁/det`, `−16·dx₂/det` and
+/// `16·dx₁/det` are `16·d·R` (below 2⁵², one [`mul_wide`] each) scaled by a common
+/// `2^−t` to `i32`s `B` with the largest in [2²⁹, 2³⁰], rounded: basis value =
+/// `B/2^S`, `S = 30 + bits − t`. An attribute that changes by `d₁`, `d₂` from the
+/// top vertex then has `Gx = round((d₁·B₁ + d₂·B₂)/2^S)` and `Gy` alike: two more
+/// products per increment. Depth deltas (33 bits) are taken in quarters.
+///
+/// Error of an increment against the exact one: the common relative error `ρ` of
+/// `R` and the mantissa (|ρ| < 2⁻²⁸) scales the whole sum, so it costs `|Gx|·2⁻²⁸`
+/// however the two terms cancel; the rounding of each `B` (½ unit) costs
+/// `(|d₁| + |d₂|)·2^−(S+1)`; the quarters of a depth delta at most
+/// `3·(|B₁| + |B₂|)/2^S`; the final rounding ½ unit. With `D` a bound of the
+/// deltas and `E` of the pixel steps from the lattice anchor to any pixel of the
+/// triangle's bounding box, the first three add at most about
+/// `E·(|G|·2⁻²⁸ + D·2^−(S+1))` (depth: `+ E·2^(34 − S)`) units, and `|G| ≤ 2D·2³⁰/2^S`.
+/// The fast path is taken only when, on bit lengths (which over-estimate), that is
+/// below 2¹¹ units for the colours and 2¹⁴ (a quarter of a u16 step) for the
+/// depth, and every increment fits `i32`; everything else takes the exact path.
+/// Within the fast path the lattice is off the exact plane by at most
+/// `0.5·(|x − xa| + |y − ya|) + 2¹¹ + 1` units for colours (the module's bound plus
+/// 2⁻⁵ of a step) and `… + 2¹⁴ + 1` for depth.
+#[cfg_attr(not(target_os = "none"), inline(always))]
+pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
+    // The order only: the sorted vertices are gathered straight into the result.
+    let [i0, i1, i2] = order3(&v);
+    let (t, m, b) = (&v[i0], &v[i1], &v[i2]);
+    // Colour channels outside [0, 2^30) (never from the vertex stage) take the exact
+    // path; inside, every delta fits i32 with a bit to spare.
+    let cs = t.c[0] | t.c[1] | t.c[2] | m.c[0] | m.c[1] | m.c[2] | b.c[0] | b.c[1] | b.c[2];
+    if cs >> 30 != 0 {
+        return setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| s);
+    }
+    let (dx1, dy1) = (m.x - t.x, m.y - t.y);
+    let (dx2, dy2) = (b.x - t.x, b.y - t.y);
+    // |d| < 2^17 (guard band): products below 2^34, det below 2^35.
+    let det = mul_wide(dx1, dy2) - mul_wide(dx2, dy1);
+    if det == 0 {
+        return None;
+    }
+    let neg = det < 0;
+    let mag = det.unsigned_abs();
+    let bits = bit_len(mag); // 1..=35
+    let mant = if bits > 31 {
+        (mag >> (bits - 31)) as u32
+    } else {
+        (mag as u32) << (31 - bits)
+    };
+    let r = recip_q61(mant) as i32; // 2^61/m: 1/|det| = r·2^−(30 + bits)
+                                    // 16·|d| < 2^21 and r < 2^31: each product below 2^52, the largest at least
+                                    // 16·2^30 (some |d| ≥ 1). `hmax` bounds the high words' magnitudes (xor with
+                                    // the sign: |v| ≤ (hmax + 1)·2^32), so with t = bits(hmax) + 2 every |v| >> t
+                                    // is at most 2^30 and the largest at least 2^29; t is in [4, 22].
+    let p = [16 * dy2, -16 * dy1, -16 * dx2, 16 * dx1].map(|d| mul_wide(d, r));
+    let hmax = p.iter().fold(0u32, |acc, v| {
+        acc | (((v >> 32) as i32) ^ ((v >> 63) as i32)) as u32
+    });
+    let sh_t = 34 - leading_zeros(hmax);
+    let bb = p.map(|v| {
+        let q = ((v + (1 << (sh_t - 1))) >> sh_t) as i32;
+        if neg {
+            -q
+        } else {
+            q
+        }
+    });
+    // S = 30 + bits − t: t ≤ 22 so S ≥ 9; bits ≤ 35 and t ≥ 4, so S ≤ 61.
+    let sh = 30 + bits - sh_t;
+    // The bound's inputs on bit lengths: E pixel steps, colour and depth deltas.
+    let (xl, xr) = (t.x.min(m.x).min(b.x), t.x.max(m.x).max(b.x));
+    let be = 32 - leading_zeros((((xr - xl) + (b.y - t.y)) >> 4) as u32 + 2);
+    let d1 = [m.c[0] - t.c[0], m.c[1] - t.c[1], m.c[2] - t.c[2]];
+    let d2 = [b.c[0] - t.c[0], b.c[1] - t.c[1], b.c[2] - t.c[2]];
+    let dor = d1
+        .iter()
+        .chain(d2.iter())
+        .fold(0u32, |acc, d| acc | (d ^ (d >> 31)) as u32);
+    let bd = 33 - leading_zeros(dor); // |d₁| + |d₂| < 2^bd
+    let (z1, z2) = (
+        (m.z >> 2) as i32 - (t.z >> 2) as i32,
+        (b.z >> 2) as i32 - (t.z >> 2) as i32,
+    );
+    let bz = 33 - leading_zeros(((z1 ^ (z1 >> 31)) | (z2 ^ (z2 >> 31))) as u32);
+    // Colours: |G| < 2^(bd + 31 − S) fits i32 and E·|G|·2^-28 < 2^10 when
+    // bd ≤ S and be + bd ≤ S + 7; then E·D·2^−(S+1) < 2^6 too.
+    // Depth (quarters, S − 2): |G| < 2^(bz + 33 − S), so bz + 2 ≤ S and
+    // be + bz ≤ S + 5; the quarters and the basis rounding cost below 2^(34 − S) a
+    // step, below 2^14 over E steps when be + 20 ≤ S.
+    // (A depth that does not change at all has no error.)
+    let zvar = t.z != m.z || t.z != b.z;
+    if bd > sh || be + bd > sh + 7 || (zvar && (bz + 2 > sh || be + bz > sh + 5 || be + 20 > sh)) {
+        return setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| s);
+    }
+    // |d| < 2^30 (colours) and |B| ≤ 2^30: each product below 2^60, the sum 2^61.
+    let half = 1i64 << (sh - 1);
+    let mut gx = [0i32; ATTRS];
+    let mut gy = [0i32; ATTRS];
+    for k in 0..3 {
+        let (a, c) = (d1[k], d2[k]);
+        gx[k] = ((mul_wide(a, bb[0]) + mul_wide(c, bb[1]) + half) >> sh) as i32;
+        gy[k] = ((mul_wide(a, bb[2]) + mul_wide(c, bb[3]) + half) >> sh) as i32;
+    }
+    // Depth in quarters: |d/4| < 2^30, so the same bounds.
+    gx[3] = ((mul_wide(z1, bb[0]) + mul_wide(z2, bb[1]) + (half >> 2)) >> (sh - 2)) as i32;
+    gy[3] = ((mul_wide(z1, bb[2]) + mul_wide(z2, bb[3]) + (half >> 2)) >> (sh - 2)) as i32;
+    let anchor = (first_row(t.x), first_row(t.y));
+    // Offsets of the anchor centre from the top vertex, in [0, 16) subpixels;
+    // |g| < 2^31, so each product is a mul_wide below 2^35.
+    let ox = 16 * anchor.0 + 8 - t.x;
+    let oy = 16 * anchor.1 + 8 - t.y;
+    let a0 = [t.c[0], t.c[1], t.c[2], t.z as i32];
+    let a = core::array::from_fn(|k| {
+        let off = ((mul_wide(gx[k], ox) + mul_wide(gy[k], oy) + 8) >> 4) as i32;
+        // Modulo 2^32 by design (the depth is unsigned).
+        a0[k].wrapping_add(off).wrapping_add(ROUND_BIAS)
+    });
+    Some(Setup {
+        // y points down: the middle vertex is left of top→bottom when det < 0.
+        mid_left: neg,
+        v: [*t, *m, *b],
+        gx,
+        gy,
+        anchor,
+        a,
+    })
 }
 
 /// [`setup_div`], also returning its [`Det`] for further attribute planes.
@@ -188,19 +364,8 @@ pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// used instead of being returned through memory; bare-metal targets keep one copy
 /// (flash; see [`super::edge::EdgeStepper::new`]).
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn setup_with_det_div<D: Divide>(mut v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
-    // Sorted by (y, x) with three compare-exchanges. Two vertices with equal keys
-    // coincide, so the triangle has zero area and is rejected whatever their order.
-    let key = |p: &ScreenVertex| (p.y, p.x);
-    if key(&v[1]) < key(&v[0]) {
-        v.swap(0, 1);
-    }
-    if key(&v[2]) < key(&v[1]) {
-        v.swap(1, 2);
-        if key(&v[1]) < key(&v[0]) {
-            v.swap(0, 1);
-        }
-    }
+pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
+    let v = sort3(v);
     let det = Det::new::<D>(v.map(|p| (p.x, p.y)))?;
     let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
     let mut gx = [0i64; ATTRS];
