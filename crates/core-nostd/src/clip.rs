@@ -13,6 +13,7 @@
 //! below 2⁵⁸, and the interpolation products `(b − a)·d` below 2⁹⁹ fit `i128`.
 
 use crate::geometry::Viewport;
+use crate::math::mul_wide;
 use crate::raster::GUARD;
 
 /// A polygon vertex: clip coordinates and `N` attributes interpolated with it: the
@@ -183,17 +184,30 @@ pub fn is_front(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> bool {
     signed_area(a, b, c) < 0
 }
 
-/// Twice the signed area of a Q12.4 screen triangle (y down). |coordinates| < 2¹⁶,
-/// so each product is below 2³⁴: `i64`.
+/// Twice the signed area of a Q12.4 screen triangle (y down). |coordinates| < 2¹⁶
+/// (the guard band), so each product is below 2³⁴: `i64`.
 ///
 /// ```
 /// use fixshade::clip::signed_area;
 /// // Twice the area of a 1×1-pixel right triangle in Q12.4 (16 units per pixel).
 /// assert_eq!(signed_area((0, 0), (16, 0), (0, 16)), 256);
 /// ```
+///
+/// The deltas are `i32` (wrapping: coordinates outside ±2³⁰ give a meaningless
+/// area, never a panic) and the products [`crate::math::mul_wide`]. On ARMv6-M,
+/// where that is four 16-bit products, deltas below 2¹⁵ in magnitude (a triangle
+/// under 2048 pixels across) take two 32-bit products instead: each below 2³⁰,
+/// their difference below 2³¹, the same value.
 #[inline]
 pub fn signed_area(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> i64 {
-    (b.0 - a.0) as i64 * (c.1 - a.1) as i64 - (c.0 - a.0) as i64 * (b.1 - a.1) as i64
+    let (dx1, dy1) = (b.0.wrapping_sub(a.0), b.1.wrapping_sub(a.1));
+    let (dx2, dy2) = (c.0.wrapping_sub(a.0), c.1.wrapping_sub(a.1));
+    #[cfg(fixshade_v6m)]
+    if (dx1.unsigned_abs() | dy1.unsigned_abs() | dx2.unsigned_abs() | dy2.unsigned_abs()) < 1 << 15
+    {
+        return (dx1 * dy2 - dx2 * dy1) as i64;
+    }
+    mul_wide(dx1, dy2) - mul_wide(dx2, dy1)
 }
 
 #[cfg(test)]

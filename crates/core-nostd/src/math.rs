@@ -169,6 +169,90 @@ pub(crate) fn leading_zeros_search(mut x: u32) -> u32 {
     n
 }
 
+/// `x >> s` for an `i64` and `s` < 64 (arithmetic), from 32-bit shifts: ARMv6-M
+/// would call `__aeabi_lasr` for a 64-bit shift by a variable amount.
+///
+/// ```
+/// use fixshade::math::shr_i64;
+/// assert_eq!(shr_i64(-(5 << 40), 40), -5);
+/// assert_eq!(shr_i64(-1, 63), -1);
+/// assert_eq!(shr_i64(1 << 62, 3), 1 << 59);
+/// ```
+#[inline(always)]
+pub fn shr_i64(x: i64, s: u32) -> i64 {
+    #[cfg(fixshade_v6m)]
+    {
+        shr_i64_split(x, s)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        x >> s
+    }
+}
+
+/// [`shr_i64`] on the two 32-bit halves.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn shr_i64_split(x: i64, s: u32) -> i64 {
+    debug_assert!(s < 64);
+    let (hi, lo) = ((x >> 32) as i32, x as u32);
+    if s == 0 {
+        x
+    } else if s < 32 {
+        let lo = (lo >> s) | ((hi as u32) << (32 - s));
+        (((hi >> s) as i64) << 32) | lo as i64
+    } else {
+        (hi >> (s - 32)) as i64
+    }
+}
+
+/// `⌊n / d⌋` and the remainder for `d > 0`: `UDIV` where the core has one, a
+/// shift-and-subtract loop over the quotient's bits only on ARMv6-M (which has no
+/// divider; the library would call `__aeabi_uidiv`): about four instructions per
+/// quotient bit, cheap for the small quotients of the edge walk.
+///
+/// ```
+/// use fixshade::math::div_rem_u32;
+/// assert_eq!(div_rem_u32(100, 7), (14, 2));
+/// assert_eq!(div_rem_u32(3, 7), (0, 3));
+/// assert_eq!(div_rem_u32(u32::MAX, 1), (u32::MAX, 0));
+/// ```
+#[inline(always)]
+pub fn div_rem_u32(n: u32, d: u32) -> (u32, u32) {
+    #[cfg(fixshade_v6m)]
+    {
+        div_rem_u32_shift(n, d)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        (n / d, n % d)
+    }
+}
+
+/// [`div_rem_u32`] by shift and subtract.
+#[cfg(any(test, fixshade_v6m))]
+#[inline]
+pub(crate) fn div_rem_u32_shift(n: u32, d: u32) -> (u32, u32) {
+    debug_assert!(d > 0);
+    if n < d {
+        return (0, n);
+    }
+    // The quotient has at most lz(d) − lz(n) + 1 bits.
+    let k = leading_zeros(d) - leading_zeros(n);
+    let (mut q, mut r) = (0u32, n);
+    let mut i = k as i32;
+    while i >= 0 {
+        let t = d << i;
+        q <<= 1;
+        if r >= t {
+            r -= t;
+            q |= 1;
+        }
+        i -= 1;
+    }
+    (q, r)
+}
+
 /// Seeds of [`recip_q61`]: `RECIP_SEED[i] = ⌊2²⁴ / (i + 256.5) + ½⌋` for the top nine
 /// bits `i + 256` of an argument in [2³⁰, 2³¹) (512 bytes of flash; the seed is
 /// within 2⁻⁹ of the reciprocal, relatively).
@@ -1059,6 +1143,28 @@ mod tests {
             let (ua, ub) = (r as u32, (r >> 32) as u32);
             assert_eq!(mul_wide_u_split(ua, ub), ua as u64 * ub as u64);
             assert_eq!(mul_wide_16_split(a, b as i16), a as i64 * (b as i16) as i64);
+        }
+    }
+
+    #[test]
+    fn split_shifts_and_divisions_equal_native() {
+        let mut seed = 0x7777_1234_9999_abcdu64;
+        for _ in 0..300_000 {
+            let x = xorshift(&mut seed) as i64;
+            let s = (xorshift(&mut seed) % 64) as u32;
+            assert_eq!(shr_i64_split(x, s), x >> s, "{x} >> {s}");
+            let n = xorshift(&mut seed) as u32 >> (seed % 32);
+            let d = (xorshift(&mut seed) as u32 >> (seed % 32)).max(1);
+            assert_eq!(div_rem_u32_shift(n, d), (n / d, n % d), "{n} / {d}");
+        }
+        for (n, d) in [
+            (0, 1),
+            (u32::MAX, 1),
+            (u32::MAX, u32::MAX),
+            (1 << 31, 3),
+            (7, 1 << 31),
+        ] {
+            assert_eq!(div_rem_u32_shift(n, d), (n / d, n % d));
         }
     }
 

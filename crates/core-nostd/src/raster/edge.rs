@@ -20,6 +20,8 @@
 //! pixels), so `dy ≤ 2¹⁷`, `D ≤ 2²¹` and `16·|dx| ≤ 2²¹`: `q`, `r`, `a`, `b` fit `i32`.
 //! The starting `N` needs up to 2³⁵ and is computed once in `i64`.
 
+use crate::math::{div_rem_u32, mul_wide};
+
 /// An edge being stepped row by row.
 ///
 /// ```
@@ -74,23 +76,40 @@ impl EdgeStepper {
                          // vertex it fits i32 and an i32 division does: q = qx + ⌈N' / d⌉ with
                          // N' = fx·dy + dx·(yc − y0) − 8·dy, fx = x0 − 16·qx in [0, 16).
         let qx = top.0 >> 4;
-        let fx = (top.0 & 15) as i64;
-        let n = fx * dy as i64 + dx as i64 * (16 * y as i64 + 8 - top.1 as i64) - 8 * dy as i64;
-        // |n| < 2^30 keeps q·d ≤ |n| + d below 2^31 in the i32 path.
+        let fx = top.0 & 15;
+        let off = 16 * y + 8 - top.1; // |off| < 2^18 within the guard band
+                                      // With |dx|, |off| < 2^15 every term fits i32 (|dx·off| < 2^30, the others
+                                      // below 2^21): the usual case, no 64-bit product.
+        let n = if (dx.unsigned_abs() | off.unsigned_abs()) < 1 << 15 {
+            ((fx - 8) * dy + dx * off) as i64
+        } else {
+            ((fx - 8) * dy) as i64 + mul_wide(dx, off)
+        };
         let (q, r) = if -(d as i64) < n && n <= d as i64 {
             // ⌈n/d⌉ is 0 or 1 (the usual case on a small triangle): no division.
             let n32 = n as i32;
             let q = (n32 > 0) as i32;
             (q, q * d - n32)
-        } else if n.unsigned_abs() < 1 << 30 {
-            let n32 = n as i32;
-            let q = -((-n32).div_euclid(d));
-            (q, q * d - n32)
+        } else if n.unsigned_abs() < 1 << 31 {
+            // ⌈n/d⌉ = −⌊−n/d⌋: an unsigned division of |n| by d, signs fixed.
+            let (m, rem) = div_rem_u32(n.unsigned_abs() as u32, d as u32);
+            let (m, rem) = (m as i32, rem as i32);
+            if n > 0 {
+                // ⌈n/d⌉ = m + (rem > 0); r = q·d − n = d − rem (or 0).
+                if rem > 0 {
+                    (m + 1, d - rem)
+                } else {
+                    (m, 0)
+                }
+            } else {
+                // n < 0: ⌈n/d⌉ = −m, r = −m·d − n = rem.
+                (-m, rem)
+            }
         } else {
             let q = ceil_div(n, d as i64);
             (q as i32, (q * d as i64 - n) as i32)
         };
-        // 16·|dx| < 2^21: the step division fits i32.
+        // 16·|dx| < 2^21: the step division fits 32 bits.
         let step = 16 * dx;
         // ⌊step/d⌋ without a division when it is 0 or −1 (|dx| ≤ dy, the usual case).
         let a = if (0..d).contains(&step) {
@@ -98,7 +117,12 @@ impl EdgeStepper {
         } else if (-d..0).contains(&step) {
             -1
         } else {
-            step.div_euclid(d)
+            let (m, rem) = div_rem_u32(step.unsigned_abs(), d as u32);
+            if step >= 0 {
+                m as i32
+            } else {
+                -(m as i32) - (rem != 0) as i32
+            }
         };
         let b = step - a * d;
         EdgeStepper {

@@ -40,6 +40,7 @@ use edge::{first_row, EdgeStepper};
 use setup::{Setup, ATTRS};
 use span::{DepthMode, EdgeValues, Span, SpanMethod};
 
+use crate::math::mul_wide_u;
 use crate::shade::Shading;
 use crate::target::{PixelFormat, Target};
 
@@ -240,6 +241,127 @@ where
         #[inline(always)]
         |c, d, span| S::fill::<P, Z, Sh>(c, d, span, s, &data),
     )
+}
+
+/// The constant-gradient fill of a set-up triangle ([`span::Gradient`]'s draw): the
+/// same rows, spans and values as [`draw_setup`] with [`span::Gradient`], from a walk
+/// that keeps less state per row. Each row's attribute values start from the lattice
+/// value at `x = 0` of that row, stepped down by `Gy` per row, plus `x0·Gx` at the
+/// span's first pixel (wrapping arithmetic, exact modulo 2³² like
+/// [`setup::Setup::at`]). Where the format's three channels fit one 64-bit register
+/// and the increments are unwrapped, the row values are kept packed
+/// ([`span::packed_channels`]: linear, so the packed lattice is the lattice packed,
+/// and at covered pixels the lanes hold the channels); otherwise the spans go to
+/// [`span::write_run`].
+#[cfg_attr(not(target_os = "none"), inline(always))]
+pub(crate) fn fill_gradient<P, T, Z, Sh>(target: &mut T, s: &Setup) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    Sh: Shading,
+{
+    if Z::TEST && !target.has_depth() {
+        return fill_gradient::<P, T, span::NoDepth, Sh>(target, s);
+    }
+    let Some(rows) = row_range(s, target.rows()) else {
+        return 0;
+    };
+    let (gx, gy) = (&s.gx, &s.gy);
+    let dy0 = rows.0.wrapping_sub(s.anchor.1);
+    // The lattice value at x = 0 of the first row.
+    let base: [i32; ATTRS] = core::array::from_fn(|k| {
+        s.a[k]
+            .wrapping_sub(s.anchor.0.wrapping_mul(gx[k]))
+            .wrapping_add(dy0.wrapping_mul(gy[k]))
+    });
+    let packed = (
+        span::packed_channels::<P>(&base),
+        span::packed_channels::<P>(gx),
+        span::packed_channels::<P>(gy),
+    );
+    if let (Some(mut c_row), Some(pgx), Some(pgy), true, true) =
+        (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
+    {
+        let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
+        return walk_rows::<P, T, Z>(target, s, rows, |span| {
+            if let Some((color, depth, x0)) = span {
+                // x0 ≥ 0: x0·pgx modulo 2^64 from 32-bit products (no 64×64 multiply).
+                let x = x0 as u32;
+                let step = mul_wide_u(x, pgx as u32)
+                    .wrapping_add((x.wrapping_mul((pgx >> 32) as u32) as u64) << 32);
+                let c = c_row.wrapping_add(step);
+                let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
+                span::write_packed::<P, Z>(color, depth, c, pgx, z, gzx);
+            }
+            c_row = c_row.wrapping_add(pgy);
+            z_row = z_row.wrapping_add(gzy);
+        });
+    }
+    let mut row = base;
+    walk_rows::<P, T, Z>(target, s, rows, |span| {
+        if let Some((color, depth, x0)) = span {
+            let v = core::array::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
+            span::write_run::<P, Z, Sh>(color, depth, v, gx);
+        }
+        for k in 0..ATTRS {
+            row[k] = row[k].wrapping_add(gy[k]);
+        }
+    })
+}
+
+/// The edge walk of [`fill_gradient`]: for each row of `rows` (from [`row_range`]),
+/// `row(Some((colour, depth, x0)))` with the row's covered pixels `[x0, x1)` clipped
+/// to the target (depth empty unless `Z::TEST`), or `row(None)` for a row with none:
+/// `row` draws the span and moves its values on to the next row. Returns the pixels
+/// covered.
+#[inline(always)]
+fn walk_rows<P, T, Z>(
+    target: &mut T,
+    s: &Setup,
+    (y_top, y_mid, y_bot): (i32, i32, i32),
+    mut row: impl FnMut(Option<(&mut [P::Raw], &mut [u16], i32)>),
+) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+{
+    let [t, m, b] = &s.v;
+    let width = target.width() as i32;
+    let mut long = EdgeStepper::new((t.x, t.y), (b.x, b.y), y_top);
+    let mut covered = 0u32;
+    let halves = [
+        ((t, m), y_top, y_mid.min(y_bot)),
+        ((m, b), y_mid.max(y_top), y_bot),
+    ];
+    for ((top, bottom), ys, ye) in halves {
+        if ys >= ye {
+            continue;
+        }
+        let mut short = EdgeStepper::new((top.x, top.y), (bottom.x, bottom.y), ys);
+        let (left, right) = if s.mid_left {
+            (&mut short, &mut long)
+        } else {
+            (&mut long, &mut short)
+        };
+        for y in ys..ye {
+            let x0 = left.q.max(0);
+            let x1 = right.q.min(width);
+            if x0 < x1 {
+                let (crow, drow) = target.row(y);
+                let (a, e) = (x0 as usize, x1 as usize);
+                let depth: &mut [u16] = if Z::TEST { &mut drow[a..e] } else { &mut [] };
+                row(Some((&mut crow[a..e], depth, x0)));
+                covered += (x1 - x0) as u32;
+            } else {
+                row(None);
+            }
+            left.step();
+            right.step();
+        }
+    }
+    covered
 }
 
 /// The rows a set-up triangle covers inside `rows`: `(top, middle, bottom)`, where

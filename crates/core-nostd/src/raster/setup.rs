@@ -24,7 +24,7 @@
 use super::edge::first_row;
 use super::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
-use crate::math::{leading_zeros, mul_wide, recip_q61};
+use crate::math::{leading_zeros, mul_wide, recip_q61, shr_i64};
 
 /// Number of interpolated attributes: three colour channels and depth.
 pub const ATTRS: usize = 4;
@@ -59,6 +59,9 @@ pub struct Setup {
     pub anchor: (i32, i32),
     /// Attribute values at the anchor pixel centre, rounding bias included.
     pub a: [i32; ATTRS],
+    /// True when every increment is its true value; false when one was kept modulo
+    /// 2³² (a sliver whose attribute changes by more than 2³¹ units per pixel).
+    pub unwrapped: bool,
 }
 
 impl Setup {
@@ -215,6 +218,17 @@ fn sort3(v: [ScreenVertex; 3]) -> [ScreenVertex; 3] {
     [v[a], v[b], v[c]]
 }
 
+/// `2^k` for `k` < 63, from 32-bit shifts (a variable 64-bit shift is a helper call
+/// on ARMv6-M).
+#[inline(always)]
+fn bit_i64(k: u32) -> i64 {
+    if k < 32 {
+        (1u32 << k) as i64
+    } else {
+        ((1u32 << (k - 32)) as i64) << 32
+    }
+}
+
 /// Bit length of `v` (0 for 0).
 #[inline(always)]
 fn bit_len(v: u64) -> u32 {
@@ -275,8 +289,10 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
     let neg = det < 0;
     let mag = det.unsigned_abs();
     let bits = bit_len(mag); // 1..=35
+                             // |det| < 2^35: above 31 bits it loses at most four (32-bit shifts only).
     let mant = if bits > 31 {
-        (mag >> (bits - 31)) as u32
+        let sh = bits - 31; // 1..=4
+        ((mag as u32) >> sh) | (((mag >> 32) as u32) << (32 - sh))
     } else {
         (mag as u32) << (31 - bits)
     };
@@ -291,7 +307,7 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
     });
     let sh_t = 34 - leading_zeros(hmax);
     let bb = p.map(|v| {
-        let q = ((v + (1 << (sh_t - 1))) >> sh_t) as i32;
+        let q = shr_i64(v + (1i32 << (sh_t - 1)) as i64, sh_t) as i32;
         if neg {
             -q
         } else {
@@ -325,18 +341,14 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
     if bd > sh || be + bd > sh + 7 || (zvar && (bz + 2 > sh || be + bz > sh + 5 || be + 20 > sh)) {
         return setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| s);
     }
-    // |d| < 2^30 (colours) and |B| ≤ 2^30: each product below 2^60, the sum 2^61.
-    let half = 1i64 << (sh - 1);
+    // |d| < 2^30 (colours; depth in quarters) and |B| ≤ 2^30: each product below
+    // 2^60, the sum 2^61.
     let mut gx = [0i32; ATTRS];
     let mut gy = [0i32; ATTRS];
     for k in 0..3 {
-        let (a, c) = (d1[k], d2[k]);
-        gx[k] = ((mul_wide(a, bb[0]) + mul_wide(c, bb[1]) + half) >> sh) as i32;
-        gy[k] = ((mul_wide(a, bb[2]) + mul_wide(c, bb[3]) + half) >> sh) as i32;
+        (gx[k], gy[k]) = increments(d1[k], d2[k], &bb, sh);
     }
-    // Depth in quarters: |d/4| < 2^30, so the same bounds.
-    gx[3] = ((mul_wide(z1, bb[0]) + mul_wide(z2, bb[1]) + (half >> 2)) >> (sh - 2)) as i32;
-    gy[3] = ((mul_wide(z1, bb[2]) + mul_wide(z2, bb[3]) + (half >> 2)) >> (sh - 2)) as i32;
+    (gx[3], gy[3]) = increments(z1, z2, &bb, sh - 2);
     let anchor = (first_row(t.x), first_row(t.y));
     // Offsets of the anchor centre from the top vertex, in [0, 16) subpixels;
     // |g| < 2^31, so each product is a mul_wide below 2^35.
@@ -356,7 +368,24 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
         gy,
         anchor,
         a,
+        unwrapped: true,
     })
+}
+
+/// One attribute's increments from its deltas `d₁`, `d₂` and the basis `b`:
+/// `round((d₁·b₀ + d₂·b₁)/2^sh)` and `round((d₁·b₂ + d₂·b₃)/2^sh)` (see
+/// [`setup_fast`] for the bounds). Kept out of line: one attribute at a time keeps
+/// the 64-bit sums in registers, where the four inlined side by side spill.
+#[inline(never)]
+fn increments(d1: i32, d2: i32, b: &[i32; 4], sh: u32) -> (i32, i32) {
+    if d1 == 0 && d2 == 0 {
+        return (0, 0);
+    }
+    let half = bit_i64(sh - 1);
+    (
+        shr_i64(mul_wide(d1, b[0]) + mul_wide(d2, b[1]) + half, sh) as i32,
+        shr_i64(mul_wide(d1, b[2]) + mul_wide(d2, b[3]) + half, sh) as i32,
+    )
 }
 
 /// [`setup_div`], also returning its [`Det`] for further attribute planes.
@@ -395,6 +424,10 @@ pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Set
         gy: gy.map(|g| g as i32),
         anchor,
         a,
+        unwrapped: gx
+            .iter()
+            .chain(gy.iter())
+            .all(|g| i32::try_from(*g).is_ok()),
     };
     Some((s, det))
 }

@@ -376,6 +376,54 @@ impl<P: PixelFormat> Packed<P> {
     }
 }
 
+/// The three colour channels `v` as one packed register (see [`Packed`]): `Σ vₖ·2^offₖ`
+/// modulo 2⁶⁴, blue lowest. Linear: the packed value of a lattice point is the sum of
+/// the packed anchor and the packed increments (all modulo 2⁶⁴), and where every
+/// channel of the point lies in its lane's range `[0, 2^Lₖ)` the lanes hold the
+/// channels exactly. `None` for a format whose lanes do not fit 64 bits.
+#[inline(always)]
+pub(crate) fn packed_channels<P: PixelFormat>(v: &[i32; ATTRS]) -> Option<u64> {
+    if !Packed::<P>::FITS {
+        return None;
+    }
+    let mut p = 0u64;
+    for k in 0..3 {
+        p = p.wrapping_add((v[k] as i64 as u64) << Packed::<P>::OFF[k]);
+    }
+    Some(p)
+}
+
+/// The pixel stage of a packed span ([`packed_channels`]): `color.len()` pixels from
+/// the packed colour `c` and depth `z`, stepping by `dc` and `dz` per pixel. The
+/// caller guarantees that every channel of every pixel lies in its lane (true at
+/// covered pixels of a triangle whose increments are unwrapped, by the setup bound).
+#[inline(always)]
+pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
+    color: &mut [P::Raw],
+    depth: &mut [u16],
+    mut c: u64,
+    dc: u64,
+    mut z: i32,
+    dz: i32,
+) {
+    if Z::TEST {
+        for (px, d) in color.iter_mut().zip(depth.iter_mut()) {
+            let zz = depth_of(z);
+            if zz < *d {
+                *d = zz;
+                P::store(px, Packed::<P>::pack(c));
+            }
+            c = c.wrapping_add(dc);
+            z = z.wrapping_add(dz);
+        }
+    } else {
+        for px in color.iter_mut() {
+            P::store(px, Packed::<P>::pack(c));
+            c = c.wrapping_add(dc);
+        }
+    }
+}
+
 /// The pixel stage: writes `color.len()` pixels starting from values `v`, stepping
 /// by `g` per pixel (wrapping adds: exact modulo 2³², see `setup`). The attributes are
 /// held in separate scalars so the loop keeps them in registers.
@@ -399,24 +447,8 @@ pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
     let [mut r, mut gg, mut b, mut z] = v;
     let [dr, dg, db, dz] = *g;
     if Sh::INTERPOLATE {
-        if let Some((mut c3, d3)) = Packed::<P>::start(v, g, color.len()) {
-            let mut z = z;
-            if Z::TEST {
-                for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
-                    let zz = depth_of(z);
-                    if zz < *d {
-                        *d = zz;
-                        P::store(c, Packed::<P>::pack(c3));
-                    }
-                    c3 = c3.wrapping_add(d3);
-                    z = z.wrapping_add(dz);
-                }
-            } else {
-                for c in color.iter_mut() {
-                    P::store(c, Packed::<P>::pack(c3));
-                    c3 = c3.wrapping_add(d3);
-                }
-            }
+        if let Some((c3, d3)) = Packed::<P>::start(v, g, color.len()) {
+            write_packed::<P, Z>(color, depth, c3, d3, z, dz);
             return;
         }
         if Z::TEST {
@@ -480,6 +512,13 @@ impl SpanMethod for Gradient {
     type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
+    #[inline(always)]
+    fn draw<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        tri: &Setup,
+    ) -> u32 {
+        super::fill_gradient::<P, T, Z, Sh>(target, tri)
+    }
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
