@@ -535,14 +535,21 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             Class::Skip => st.culled += 1,
             Class::Draw => {
                 st.drawn += 1;
-                let s = core::array::from_fn(|k| ScreenVertex {
-                    c: colour(k),
-                    ..t[k].s
-                });
                 st.pixels += if S::SNAPS {
+                    let s = core::array::from_fn(|k| ScreenVertex {
+                        c: colour(k),
+                        ..t[k].s
+                    });
                     draw_triangle::<P, T, S, Z, Sh>(target, s)
+                } else if Sh::INTERPOLATE {
+                    // The cached vertices as they are: no copy.
+                    draw_in_guard::<P, T, S, Z, Sh>(target, [&t[0].s, &t[1].s, &t[2].s])
                 } else {
-                    draw_in_guard::<P, T, S, Z, Sh>(target, s)
+                    let s: [ScreenVertex; 3] = core::array::from_fn(|k| ScreenVertex {
+                        c: colour(k),
+                        ..t[k].s
+                    });
+                    draw_in_guard::<P, T, S, Z, Sh>(target, [&s[0], &s[1], &s[2]])
                 };
             }
             Class::Clip => {

@@ -171,7 +171,7 @@ where
     if outside_guard(v.map(|p| (p.x, p.y))) {
         return 0;
     }
-    draw_in_guard::<P, T, S, Z, Sh>(target, v)
+    draw_in_guard::<P, T, S, Z, Sh>(target, [&v[0], &v[1], &v[2]])
 }
 
 /// [`draw_triangle`] for a triangle already known to lie inside the guard band (the
@@ -179,7 +179,7 @@ where
 /// loop on hosted targets, so the set-up triangle is built in place; bare-metal
 /// targets keep one copy (flash).
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn draw_in_guard<P, T, S, Z, Sh>(target: &mut T, v: [ScreenVertex; 3]) -> u32
+pub(crate) fn draw_in_guard<P, T, S, Z, Sh>(target: &mut T, v: [&ScreenVertex; 3]) -> u32
 where
     P: PixelFormat,
     T: Target<P>,
@@ -187,12 +187,7 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    // Drawn from inside the Option: moving the set-up triangle out of it would copy
-    // it (the setup is out of line on bare-metal targets).
-    match &S::setup(v) {
-        Some(s) => S::draw::<P, T, Z, Sh>(target, s),
-        None => 0,
-    }
+    S::draw_vertices::<P, T, Z, Sh>(target, v)
 }
 
 /// Rasterizes a triangle that has been set up: walks its edges and hands every span
@@ -253,8 +248,14 @@ where
 /// ([`span::packed_channels`]: linear, so the packed lattice is the lattice packed,
 /// and at covered pixels the lanes hold the channels); otherwise the spans go to
 /// [`span::write_run`].
+///
+/// `v` are the triangle's vertices in any order, `s` their [`setup::Lattice`].
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn fill_gradient<P, T, Z, Sh>(target: &mut T, s: &Setup) -> u32
+pub(crate) fn fill_gradient<P, T, Z, Sh>(
+    target: &mut T,
+    v: [&ScreenVertex; 3],
+    s: &setup::Lattice,
+) -> u32
 where
     P: PixelFormat,
     T: Target<P>,
@@ -262,11 +263,16 @@ where
     Sh: Shading,
 {
     if Z::TEST && !target.has_depth() {
-        return fill_gradient::<P, T, span::NoDepth, Sh>(target, s);
+        return fill_gradient::<P, T, span::NoDepth, Sh>(target, v, s);
     }
-    let Some(rows) = row_range(s, target.rows()) else {
+    let [t, m, b] = s.order.map(|i| v[i as usize]);
+    let rows = target.rows();
+    let y_top = first_row(t.y).max(rows.start);
+    let y_bot = first_row(b.y).min(rows.end);
+    if y_top >= y_bot {
         return 0;
-    };
+    }
+    let rows = (y_top, first_row(m.y), y_bot);
     let (gx, gy) = (&s.gx, &s.gy);
     let dy0 = rows.0.wrapping_sub(s.anchor.1);
     // The lattice value at x = 0 of the first row.
@@ -284,7 +290,7 @@ where
         (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
     {
         let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
-        return walk_rows::<P, T, Z>(target, s, rows, |span| {
+        return walk_rows::<P, T, Z>(target, [t, m, b], s.mid_left, rows, |span| {
             if let Some((color, depth, x0)) = span {
                 // x0 ≥ 0: x0·pgx modulo 2^64 from 32-bit products (no 64×64 multiply).
                 let x = x0 as u32;
@@ -299,7 +305,7 @@ where
         });
     }
     let mut row = base;
-    walk_rows::<P, T, Z>(target, s, rows, |span| {
+    walk_rows::<P, T, Z>(target, [t, m, b], s.mid_left, rows, |span| {
         if let Some((color, depth, x0)) = span {
             let v = core::array::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
             span::write_run::<P, Z, Sh>(color, depth, v, gx);
@@ -318,7 +324,8 @@ where
 #[inline(always)]
 fn walk_rows<P, T, Z>(
     target: &mut T,
-    s: &Setup,
+    [t, m, b]: [&ScreenVertex; 3],
+    mid_left: bool,
     (y_top, y_mid, y_bot): (i32, i32, i32),
     mut row: impl FnMut(Option<(&mut [P::Raw], &mut [u16], i32)>),
 ) -> u32
@@ -327,7 +334,6 @@ where
     T: Target<P>,
     Z: DepthMode,
 {
-    let [t, m, b] = &s.v;
     let width = target.width() as i32;
     let mut long = EdgeStepper::new((t.x, t.y), (b.x, b.y), y_top);
     let mut covered = 0u32;
@@ -340,7 +346,7 @@ where
             continue;
         }
         let mut short = EdgeStepper::new((top.x, top.y), (bottom.x, bottom.y), ys);
-        let (left, right) = if s.mid_left {
+        let (left, right) = if mid_left {
             (&mut short, &mut long)
         } else {
             (&mut long, &mut short)

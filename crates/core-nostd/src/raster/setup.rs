@@ -24,7 +24,7 @@
 use super::edge::first_row;
 use super::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
-use crate::math::{leading_zeros, mul_wide, recip_q61, shr_i64};
+use crate::math::{leading_zeros, mul_wide, recip_q61};
 
 /// Number of interpolated attributes: three colour channels and depth.
 pub const ATTRS: usize = 4;
@@ -194,10 +194,10 @@ pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// Two vertices with equal keys coincide, so the triangle has zero area and is
 /// rejected whatever their order.
 #[inline(always)]
-fn order3(v: &[ScreenVertex; 3]) -> [usize; 3] {
+fn order3(v: [&ScreenVertex; 3]) -> [usize; 3] {
     // (y, x) as one i64 key: y above x, x biased to be non-negative.
     let key = |p: &ScreenVertex| ((p.y as i64) << 32) + (p.x as i64 - i32::MIN as i64);
-    let k = [key(&v[0]), key(&v[1]), key(&v[2])];
+    let k = [key(v[0]), key(v[1]), key(v[2])];
     let mut o = [0, 1, 2];
     if k[o[1]] < k[o[0]] {
         o.swap(0, 1);
@@ -214,7 +214,7 @@ fn order3(v: &[ScreenVertex; 3]) -> [usize; 3] {
 /// `v` sorted by `(y, x)` ([`order3`]).
 #[inline(always)]
 fn sort3(v: [ScreenVertex; 3]) -> [ScreenVertex; 3] {
-    let [a, b, c] = order3(&v);
+    let [a, b, c] = order3([&v[0], &v[1], &v[2]]);
     [v[a], v[b], v[c]]
 }
 
@@ -270,14 +270,80 @@ fn bit_len(v: u64) -> u32 {
 /// 2⁻⁵ of a step) and `… + 2¹⁴ + 1` for depth.
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
-    // The order only: the sorted vertices are gathered straight into the result.
-    let [i0, i1, i2] = order3(&v);
-    let (t, m, b) = (&v[i0], &v[i1], &v[i2]);
+    let r = [&v[0], &v[1], &v[2]];
+    lattice(r).map(|l| l.setup(r))
+}
+
+/// What the constant-gradient fill needs of a set-up triangle besides its vertices:
+/// the vertices' order (indices into the caller's array) and the lattice. Built by
+/// [`lattice`] without copying the vertices.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Lattice {
+    /// Indices of the top, middle and bottom vertex.
+    pub order: [u8; 3],
+    /// As [`Setup::mid_left`].
+    pub mid_left: bool,
+    /// As [`Setup::unwrapped`].
+    pub unwrapped: bool,
+    /// As [`Setup::gx`].
+    pub gx: [i32; ATTRS],
+    /// As [`Setup::gy`].
+    pub gy: [i32; ATTRS],
+    /// As [`Setup::anchor`].
+    pub anchor: (i32, i32),
+    /// As [`Setup::a`].
+    pub a: [i32; ATTRS],
+}
+
+impl Lattice {
+    /// The lattice of a set-up triangle (its vertices already sorted).
+    #[inline(always)]
+    pub fn of(s: &Setup) -> Lattice {
+        Lattice {
+            order: [0, 1, 2],
+            mid_left: s.mid_left,
+            unwrapped: s.unwrapped,
+            gx: s.gx,
+            gy: s.gy,
+            anchor: s.anchor,
+            a: s.a,
+        }
+    }
+
+    /// The [`Setup`] of the triangle `v` this lattice was built from.
+    #[inline(always)]
+    pub fn setup(&self, v: [&ScreenVertex; 3]) -> Setup {
+        Setup {
+            v: self.order.map(|i| *v[i as usize]),
+            mid_left: self.mid_left,
+            gx: self.gx,
+            gy: self.gy,
+            anchor: self.anchor,
+            a: self.a,
+            unwrapped: self.unwrapped,
+        }
+    }
+}
+
+/// The lattice of [`setup`] (see [`setup_fast`] for how it is computed); `None` for
+/// a zero-area triangle.
+#[cfg_attr(not(target_os = "none"), inline(always))]
+pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Lattice> {
+    let order = order3(v);
+    let [i0, i1, i2] = order;
+    let (t, m, b) = (v[i0], v[i1], v[i2]);
+    // The exact path, for what the fast one does not take.
+    let exact = || {
+        setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| Lattice {
+            order: order.map(|i| i as u8),
+            ..Lattice::of(&s)
+        })
+    };
     // Colour channels outside [0, 2^30) (never from the vertex stage) take the exact
     // path; inside, every delta fits i32 with a bit to spare.
     let cs = t.c[0] | t.c[1] | t.c[2] | m.c[0] | m.c[1] | m.c[2] | b.c[0] | b.c[1] | b.c[2];
     if cs >> 30 != 0 {
-        return setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| s);
+        return exact();
     }
     let (dx1, dy1) = (m.x - t.x, m.y - t.y);
     let (dx2, dy2) = (b.x - t.x, b.y - t.y);
@@ -307,7 +373,7 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
     });
     let sh_t = 34 - leading_zeros(hmax);
     let bb = p.map(|v| {
-        let q = shr_i64(v + (1i32 << (sh_t - 1)) as i64, sh_t) as i32;
+        let q = round_shift(v, sh_t);
         if neg {
             -q
         } else {
@@ -339,7 +405,7 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
     // (A depth that does not change at all has no error.)
     let zvar = t.z != m.z || t.z != b.z;
     if bd > sh || be + bd > sh + 7 || (zvar && (bz + 2 > sh || be + bz > sh + 5 || be + 20 > sh)) {
-        return setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| s);
+        return exact();
     }
     // |d| < 2^30 (colours; depth in quarters) and |B| ≤ 2^30: each product below
     // 2^60, the sum 2^61.
@@ -360,10 +426,10 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
         // Modulo 2^32 by design (the depth is unsigned).
         a0[k].wrapping_add(off).wrapping_add(ROUND_BIAS)
     });
-    Some(Setup {
+    Some(Lattice {
+        order: order.map(|i| i as u8),
         // y points down: the middle vertex is left of top→bottom when det < 0.
         mid_left: neg,
-        v: [*t, *m, *b],
         gx,
         gy,
         anchor,
@@ -381,11 +447,26 @@ fn increments(d1: i32, d2: i32, b: &[i32; 4], sh: u32) -> (i32, i32) {
     if d1 == 0 && d2 == 0 {
         return (0, 0);
     }
-    let half = bit_i64(sh - 1);
     (
-        shr_i64(mul_wide(d1, b[0]) + mul_wide(d2, b[1]) + half, sh) as i32,
-        shr_i64(mul_wide(d1, b[2]) + mul_wide(d2, b[3]) + half, sh) as i32,
+        round_shift(mul_wide(d1, b[0]) + mul_wide(d2, b[1]), sh),
+        round_shift(mul_wide(d1, b[2]) + mul_wide(d2, b[3]), sh),
     )
+}
+
+/// `round(n / 2^sh)` (half up) for `1 ≤ sh < 63`, as `i32` (the caller knows it fits)
+/// from 32-bit halves: with `sh ≥ 32` the high word of `n + 2^(sh−1)` shifted by
+/// `sh − 32` (nested floors), below 32 the low word of the shifted sum. No 64-bit
+/// shift by a variable amount (a helper call on ARMv6-M, a branchy sequence on
+/// ARMv7-M).
+#[inline(always)]
+fn round_shift(n: i64, sh: u32) -> i32 {
+    let n = n + bit_i64(sh - 1);
+    let (hi, lo) = ((n >> 32) as i32, n as u32);
+    if sh >= 32 {
+        hi >> (sh - 32)
+    } else {
+        ((lo >> sh) | ((hi as u32) << (32 - sh))) as i32
+    }
 }
 
 /// [`setup_div`], also returning its [`Det`] for further attribute planes.

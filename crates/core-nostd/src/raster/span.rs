@@ -213,6 +213,25 @@ pub trait SpanMethod {
     {
         super::draw_setup::<P, T, Self, Z, Sh>(target, tri)
     }
+    /// Sets up and rasterizes a triangle of screen vertices inside the guard band:
+    /// [`SpanMethod::setup`], then [`SpanMethod::draw`] (nothing for a zero-area
+    /// triangle). A method may fuse the two (the constant gradient does, without
+    /// copying the vertices into a [`Setup`]); the pixels are the same.
+    #[inline(always)]
+    fn draw_vertices<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        v: [&ScreenVertex; 3],
+    ) -> u32
+    where
+        Self: Sized,
+    {
+        // Drawn from inside the Option: moving the set-up triangle out of it would
+        // copy it (the setup is out of line on bare-metal targets).
+        match &Self::setup([*v[0], *v[1], *v[2]]) {
+            Some(s) => Self::draw::<P, T, Z, Sh>(target, s),
+            None => 0,
+        }
+    }
 }
 
 /// Packs the rounded channels `r >> 16`, `g >> 16`, `b >> 16`. Channel values are in
@@ -517,7 +536,18 @@ impl SpanMethod for Gradient {
         target: &mut T,
         tri: &Setup,
     ) -> u32 {
-        super::fill_gradient::<P, T, Z, Sh>(target, tri)
+        let v = [&tri.v[0], &tri.v[1], &tri.v[2]];
+        super::fill_gradient::<P, T, Z, Sh>(target, v, &super::setup::Lattice::of(tri))
+    }
+    #[inline(always)]
+    fn draw_vertices<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        v: [&ScreenVertex; 3],
+    ) -> u32 {
+        match &super::setup::lattice(v) {
+            Some(l) => super::fill_gradient::<P, T, Z, Sh>(target, v, l),
+            None => 0,
+        }
     }
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
@@ -727,6 +757,20 @@ impl<S: SpanMethod, D: Divide> SpanMethod for WithDivide<S, D> {
         tri: &Setup,
     ) -> u32 {
         S::draw::<P, T, Z, Sh>(target, tri)
+    }
+    #[inline(always)]
+    fn draw_vertices<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        v: [&ScreenVertex; 3],
+    ) -> u32 {
+        // With the exact divider `S`'s own setup is this one's.
+        if D::EXACT {
+            return S::draw_vertices::<P, T, Z, Sh>(target, v);
+        }
+        match &Self::setup([*v[0], *v[1], *v[2]]) {
+            Some(s) => Self::draw::<P, T, Z, Sh>(target, s),
+            None => 0,
+        }
     }
 }
 
