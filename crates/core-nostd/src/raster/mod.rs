@@ -248,14 +248,8 @@ where
 /// ([`span::packed_channels`]: linear, so the packed lattice is the lattice packed,
 /// and at covered pixels the lanes hold the channels); otherwise the spans go to
 /// [`span::write_run`].
-///
-/// `v` are the triangle's vertices in any order, `s` their [`setup::Lattice`].
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn fill_gradient<P, T, Z, Sh>(
-    target: &mut T,
-    v: [&ScreenVertex; 3],
-    s: &setup::Lattice,
-) -> u32
+pub(crate) fn fill_gradient<P, T, Z, Sh>(target: &mut T, s: &setup::Record) -> u32
 where
     P: PixelFormat,
     T: Target<P>,
@@ -263,22 +257,23 @@ where
     Sh: Shading,
 {
     if Z::TEST && !target.has_depth() {
-        return fill_gradient::<P, T, span::NoDepth, Sh>(target, v, s);
+        return fill_gradient::<P, T, span::NoDepth, Sh>(target, s);
     }
-    let [t, m, b] = s.order.map(|i| v[i as usize]);
+    let [t, m, b] = s.xy;
     let rows = target.rows();
-    let y_top = first_row(t.y).max(rows.start);
-    let y_bot = first_row(b.y).min(rows.end);
+    let y_top = first_row(t.1).max(rows.start);
+    let y_bot = first_row(b.1).min(rows.end);
     if y_top >= y_bot {
         return 0;
     }
-    let rows = (y_top, first_row(m.y), y_bot);
+    let rows = (y_top, first_row(m.1), y_bot);
     let (gx, gy) = (&s.gx, &s.gy);
-    let dy0 = rows.0.wrapping_sub(s.anchor.1);
+    let anchor = s.anchor();
+    let dy0 = rows.0.wrapping_sub(anchor.1);
     // The lattice value at x = 0 of the first row.
     let base: [i32; ATTRS] = core::array::from_fn(|k| {
         s.a[k]
-            .wrapping_sub(s.anchor.0.wrapping_mul(gx[k]))
+            .wrapping_sub(anchor.0.wrapping_mul(gx[k]))
             .wrapping_add(dy0.wrapping_mul(gy[k]))
     });
     let packed = (
@@ -290,7 +285,7 @@ where
         (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
     {
         let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
-        return walk_rows::<P, T, Z>(target, [t, m, b], s.mid_left, rows, |span| {
+        return walk_rows::<P, T, Z>(target, s.xy, s.mid_left, rows, |span| {
             if let Some((color, depth, x0)) = span {
                 // x0 ≥ 0: x0·pgx modulo 2^64 from 32-bit products (no 64×64 multiply).
                 let x = x0 as u32;
@@ -305,7 +300,7 @@ where
         });
     }
     let mut row = base;
-    walk_rows::<P, T, Z>(target, [t, m, b], s.mid_left, rows, |span| {
+    walk_rows::<P, T, Z>(target, s.xy, s.mid_left, rows, |span| {
         if let Some((color, depth, x0)) = span {
             let v = core::array::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
             span::write_run::<P, Z, Sh>(color, depth, v, gx);
@@ -324,7 +319,7 @@ where
 #[inline(always)]
 fn walk_rows<P, T, Z>(
     target: &mut T,
-    [t, m, b]: [&ScreenVertex; 3],
+    [t, m, b]: [(i32, i32); 3],
     mid_left: bool,
     (y_top, y_mid, y_bot): (i32, i32, i32),
     mut row: impl FnMut(Option<(&mut [P::Raw], &mut [u16], i32)>),
@@ -335,7 +330,7 @@ where
     Z: DepthMode,
 {
     let width = target.width() as i32;
-    let mut long = EdgeStepper::new((t.x, t.y), (b.x, b.y), y_top);
+    let mut long = EdgeStepper::new(t, b, y_top);
     let mut covered = 0u32;
     let halves = [
         ((t, m), y_top, y_mid.min(y_bot)),
@@ -345,7 +340,7 @@ where
         if ys >= ye {
             continue;
         }
-        let mut short = EdgeStepper::new((top.x, top.y), (bottom.x, bottom.y), ys);
+        let mut short = EdgeStepper::new(top, bottom, ys);
         let (left, right) = if mid_left {
             (&mut short, &mut long)
         } else {

@@ -274,51 +274,76 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
     lattice(r).map(|l| l.setup(r))
 }
 
-/// What the constant-gradient fill needs of a set-up triangle besides its vertices:
-/// the vertices' order (indices into the caller's array) and the lattice. Built by
-/// [`lattice`] without copying the vertices.
-#[derive(Copy, Clone, Debug)]
-pub(crate) struct Lattice {
-    /// Indices of the top, middle and bottom vertex.
-    pub order: [u8; 3],
-    /// As [`Setup::mid_left`].
-    pub mid_left: bool,
-    /// As [`Setup::unwrapped`].
-    pub unwrapped: bool,
+/// A triangle set up for the constant-gradient fill: its vertex positions sorted
+/// top to bottom and the lattice of its attributes — everything
+/// [`span::Gradient`](super::span::Gradient) draws from, 76 bytes, without the
+/// vertices' colours and depths. Built once per triangle, it is what a
+/// frame drawn in bands keeps per triangle ([`crate::bands`]).
+///
+/// ```
+/// use fixshade::raster::setup::Record;
+/// // Caller-owned memory for records can be a static array.
+/// static mut RECORDS: [Record; 4] = [Record::EMPTY; 4];
+/// assert_eq!(core::mem::size_of::<Record>(), 76);
+/// ```
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Record {
+    /// Q12.4 positions of the top, middle and bottom vertex.
+    pub(crate) xy: [(i32, i32); 3],
     /// As [`Setup::gx`].
-    pub gx: [i32; ATTRS],
+    pub(crate) gx: [i32; ATTRS],
     /// As [`Setup::gy`].
-    pub gy: [i32; ATTRS],
-    /// As [`Setup::anchor`].
-    pub anchor: (i32, i32),
-    /// As [`Setup::a`].
-    pub a: [i32; ATTRS],
+    pub(crate) gy: [i32; ATTRS],
+    /// As [`Setup::a`] (the anchor is the pixel of the top vertex's first row,
+    /// [`Setup::anchor`]).
+    pub(crate) a: [i32; ATTRS],
+    /// As [`Setup::mid_left`].
+    pub(crate) mid_left: bool,
+    /// As [`Setup::unwrapped`].
+    pub(crate) unwrapped: bool,
 }
 
-impl Lattice {
-    /// The lattice of a set-up triangle (its vertices already sorted).
+impl Record {
+    /// A placeholder, for initialising record arrays.
+    pub const EMPTY: Record = Record {
+        xy: [(0, 0); 3],
+        gx: [0; ATTRS],
+        gy: [0; ATTRS],
+        a: [0; ATTRS],
+        mid_left: false,
+        unwrapped: false,
+    };
+
+    /// The record of a set-up triangle.
     #[inline(always)]
-    pub fn of(s: &Setup) -> Lattice {
-        Lattice {
-            order: [0, 1, 2],
-            mid_left: s.mid_left,
-            unwrapped: s.unwrapped,
+    pub fn of(s: &Setup) -> Record {
+        Record {
+            xy: s.v.map(|p| (p.x, p.y)),
             gx: s.gx,
             gy: s.gy,
-            anchor: s.anchor,
             a: s.a,
+            mid_left: s.mid_left,
+            unwrapped: s.unwrapped,
         }
     }
 
-    /// The [`Setup`] of the triangle `v` this lattice was built from.
+    /// The lattice anchor ([`Setup::anchor`]): the pixel of the top vertex's first
+    /// row.
     #[inline(always)]
-    pub fn setup(&self, v: [&ScreenVertex; 3]) -> Setup {
+    pub(crate) fn anchor(&self) -> (i32, i32) {
+        (first_row(self.xy[0].0), first_row(self.xy[0].1))
+    }
+
+    /// The [`Setup`] of the triangle `v` this record was built from.
+    #[inline(always)]
+    fn setup(&self, v: [&ScreenVertex; 3]) -> Setup {
+        let [a, b, c] = order3(v);
         Setup {
-            v: self.order.map(|i| *v[i as usize]),
+            v: [*v[a], *v[b], *v[c]],
             mid_left: self.mid_left,
             gx: self.gx,
             gy: self.gy,
-            anchor: self.anchor,
+            anchor: self.anchor(),
             a: self.a,
             unwrapped: self.unwrapped,
         }
@@ -328,17 +353,12 @@ impl Lattice {
 /// The lattice of [`setup`] (see [`setup_fast`] for how it is computed); `None` for
 /// a zero-area triangle.
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Lattice> {
+pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
     let order = order3(v);
     let [i0, i1, i2] = order;
     let (t, m, b) = (v[i0], v[i1], v[i2]);
     // The exact path, for what the fast one does not take.
-    let exact = || {
-        setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| Lattice {
-            order: order.map(|i| i as u8),
-            ..Lattice::of(&s)
-        })
-    };
+    let exact = || setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| Record::of(&s));
     // Colour channels outside [0, 2^30) (never from the vertex stage) take the exact
     // path; inside, every delta fits i32 with a bit to spare.
     let cs = t.c[0] | t.c[1] | t.c[2] | m.c[0] | m.c[1] | m.c[2] | b.c[0] | b.c[1] | b.c[2];
@@ -426,13 +446,12 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Lattice> {
         // Modulo 2^32 by design (the depth is unsigned).
         a0[k].wrapping_add(off).wrapping_add(ROUND_BIAS)
     });
-    Some(Lattice {
-        order: order.map(|i| i as u8),
+    Some(Record {
+        xy: [(t.x, t.y), (m.x, m.y), (b.x, b.y)],
         // y points down: the middle vertex is left of top→bottom when det < 0.
         mid_left: neg,
         gx,
         gy,
-        anchor,
         a,
         unwrapped: true,
     })

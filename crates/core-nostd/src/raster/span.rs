@@ -536,8 +536,7 @@ impl SpanMethod for Gradient {
         target: &mut T,
         tri: &Setup,
     ) -> u32 {
-        let v = [&tri.v[0], &tri.v[1], &tri.v[2]];
-        super::fill_gradient::<P, T, Z, Sh>(target, v, &super::setup::Lattice::of(tri))
+        super::fill_gradient::<P, T, Z, Sh>(target, &super::setup::Record::of(tri))
     }
     #[inline(always)]
     fn draw_vertices<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
@@ -545,7 +544,7 @@ impl SpanMethod for Gradient {
         v: [&ScreenVertex; 3],
     ) -> u32 {
         match &super::setup::lattice(v) {
-            Some(l) => super::fill_gradient::<P, T, Z, Sh>(target, v, l),
+            Some(r) => super::fill_gradient::<P, T, Z, Sh>(target, r),
             None => 0,
         }
     }
