@@ -23,7 +23,7 @@ use embedded_graphics_core::{Drawable, Pixel};
 use fixshade::eg::{CoveredPixel, EgFormat, Model};
 use fixshade::linebuf::{render_lines, LineBufferProvider};
 use fixshade::raster::span::SpanMethod;
-use fixshade::render::{Frame, XfVertex};
+use fixshade::render::{BandMemory, Frame, XfVertex};
 use fixshade::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888};
 use fixshade_sim::convert::core_scene;
 use fixshade_sim::desc::{FormatName, ShadingName, SpanName};
@@ -198,6 +198,11 @@ impl<P: PixelFormat> LineBufferProvider for Lines<P> {
     }
 }
 
+/// No band memory: every band walks the triangles again.
+fn no_memory() -> BandMemory<'static> {
+    BandMemory::new(&mut [], &mut [], &mut [])
+}
+
 fn through_lines<P: PixelFormat, S: SpanMethod>(ls: &LoadedScene, band_rows: u32) -> Vec<u8> {
     let d = &ls.desc;
     let scene = core_scene(d, &ls.fixed).unwrap();
@@ -214,8 +219,15 @@ fn through_lines<P: PixelFormat, S: SpanMethod>(ls: &LoadedScene, band_rows: u32
         next_row: 0,
     };
     let bg = background::<P>(ls);
-    let stats =
-        render_lines::<S, P, _, _>(&frame, band_rows, Some(&mut depth), bg, &mut lines).unwrap();
+    let stats = render_lines::<S, P, _, _>(
+        &frame,
+        band_rows,
+        no_memory(),
+        Some(&mut depth),
+        bg,
+        &mut lines,
+    )
+    .unwrap();
     assert!(stats.pixels > 0);
     assert_eq!(lines.next_row, h, "every row asked for");
     to_bytes::<P>(&lines.frame)

@@ -75,11 +75,12 @@ use egc::Drawable;
 use embedded_graphics_core as egc;
 
 use crate::light::{BlinnExact, Specular};
+use crate::linebuf::{render_binned, LineBufferProvider};
 use crate::raster::span::{Gradient, SpanMethod};
-use crate::render::{Frame, Stats, XfVertex};
+use crate::render::{BandMemory, Frame, Stats, XfVertex};
 use crate::renderer::DrawError;
 use crate::scene::Scene;
-use crate::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip, TargetError};
+use crate::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, TargetError};
 
 /// A pixel format with an embedded-graphics colour.
 ///
@@ -274,7 +275,8 @@ impl<'a, P: EgFormat, S: SpanMethod, Sp: Specular> Model<'a, P, S, Sp> {
         }
     }
 
-    /// Renders every band and flushes it to `target`.
+    /// Renders every band (the core's band loop, [`render_binned`]; the frame is
+    /// not binned, so each band walks the triangles) and flushes it to `target`.
     fn draw_bands<D: DrawTarget<Color = P::Color>>(
         &self,
         s: &mut Scratch<'a, P::Raw>,
@@ -288,34 +290,73 @@ impl<'a, P: EgFormat, S: SpanMethod, Sp: Specular> Model<'a, P, S, Sp> {
         }
         // At least one row (checked in `prepare`), at most the frame.
         let band = (band as u32).clamp(1, h);
-        let mut total = Stats::default();
-        let mut y0 = 0;
-        while y0 < h {
-            let rows = band.min(h - y0);
-            let mut strip = match Strip::<Covered<P>>::new(
-                &mut *s.color,
-                s.depth.as_deref_mut(),
-                w,
-                h,
-                y0,
-                rows,
-            ) {
-                Ok(st) => st,
-                Err(e) => return Ok(Err(e.into())),
-            };
-            strip.clear(CoveredPixel::default());
-            match self.frame.draw::<S, _>(&mut strip) {
-                Ok(st) => total += st,
-                Err(e) => return Ok(Err(e.into())),
-            }
-            for (r, row) in strip.color().chunks_exact(wu).enumerate() {
-                // y0 + r < h ≤ 4096; the origin may be anywhere: saturate.
-                let y = self.origin.y.saturating_add((y0 as usize + r) as i32);
-                flush_row::<P, D>(row, self.origin.x, y, target)?;
-            }
-            y0 += rows;
+        let binned = match self
+            .frame
+            .bin(band, BandMemory::new(&mut [], &mut [], &mut []))
+        {
+            Ok(b) => b,
+            Err(e) => return Ok(Err(e.into())),
+        };
+        let mut flush = Flush::<P, D> {
+            color: &mut *s.color,
+            size: (w, h),
+            origin: self.origin,
+            target,
+            error: None,
+        };
+        let r = render_binned::<S, Covered<P>, _, Sp>(
+            &binned,
+            s.depth.as_deref_mut(),
+            CoveredPixel::default(),
+            &mut flush,
+        );
+        match flush.error {
+            Some(e) => Err(e),
+            None => Ok(r),
         }
-        Ok(Ok(total))
+    }
+}
+
+/// The band loop's provider for a model: renders each band into the scratch strip,
+/// then hands its written pixels to the display ([`flush_row`]), keeping the
+/// display's first error.
+struct Flush<'b, 'd, P: EgFormat, D: DrawTarget<Color = P::Color>> {
+    color: &'b mut [CoveredPixel<P::Raw>],
+    size: (u32, u32),
+    origin: Point,
+    target: &'d mut D,
+    error: Option<D::Error>,
+}
+
+impl<P: EgFormat, D: DrawTarget<Color = P::Color>> LineBufferProvider for Flush<'_, '_, P, D> {
+    type Format = Covered<P>;
+
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn process_lines(
+        &mut self,
+        lines: core::ops::Range<u32>,
+        render: impl FnOnce(&mut [CoveredPixel<P::Raw>]),
+    ) {
+        if self.error.is_some() {
+            return;
+        }
+        let wu = self.size.0 as usize;
+        let buf = &mut self.color[..wu * lines.len()];
+        render(buf);
+        for (r, row) in buf.chunks_exact(wu).enumerate() {
+            // lines.start + r < h ≤ 4096; the origin may be anywhere: saturate.
+            let y = self
+                .origin
+                .y
+                .saturating_add((lines.start as usize + r) as i32);
+            if let Err(e) = flush_row::<P, D>(row, self.origin.x, y, self.target) {
+                self.error = Some(e);
+                return;
+            }
+        }
     }
 }
 

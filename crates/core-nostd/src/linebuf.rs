@@ -5,14 +5,16 @@
 //! render_fn)`): the provider owns the memory (often a DMA buffer), calls the
 //! render function with it, and then sends the filled rows to the display over SPI.
 //! A band is `band_rows` frame rows (1 gives Slint's one line at a time); the
-//! renderer keeps only a depth buffer of one band. Each band is a
-//! [`Strip`] drawn by [`Frame::draw`], so the bytes are the same as rendering the
-//! whole frame into a [`crate::target::Framebuffer`]; more rows per band means fewer
-//! passes over the triangle list.
+//! renderer keeps only a depth buffer of one band. Each band is a [`Strip`] drawn by
+//! [`Binned::draw_band`], so the bytes are the same as rendering the whole frame
+//! into a [`crate::target::Framebuffer`]. With [`BandMemory`] lent, every triangle is
+//! set up once per frame and each band draws only the triangles that reach it;
+//! without, each band walks the triangle list again.
 //!
 //! ```
 //! use core::ops::Range;
 //! use fixshade::prelude::*;
+//! use fixshade::render::BandMemory;
 //!
 //! /// A display driver stand-in: counts the bytes it would send.
 //! struct Spi {
@@ -50,7 +52,8 @@
 //! let mut depth = [0u16; 64 * 8];
 //! let mut spi = Spi { buf: [0; 64 * 8], sent: 0 };
 //! let black = Rgb565Be::pack(0, 0, 0);
-//! let stats = render_lines::<Gradient, _, _, _>(&frame, 8, Some(&mut depth), black, &mut spi).unwrap();
+//! let none = BandMemory::new(&mut [], &mut [], &mut []); // no records: each band re-walks
+//! let stats = render_lines::<Gradient, _, _, _>(&frame, 8, none, Some(&mut depth), black, &mut spi).unwrap();
 //! assert_eq!(spi.sent, 64 * 48 * 2);
 //! assert!(stats.pixels > 300);
 //! ```
@@ -59,7 +62,7 @@ use core::ops::Range;
 
 use crate::light::Specular;
 use crate::raster::span::SpanMethod;
-use crate::render::{Frame, Stats};
+use crate::render::{BandMemory, Binned, Frame, Stats};
 use crate::renderer::DrawError;
 use crate::target::{PixelFormat, Strip, TargetError};
 
@@ -106,20 +109,67 @@ pub trait LineBufferProvider {
     );
 }
 
-/// Renders `frame` band by band into `provider`'s buffers with the span method `S`.
+/// Renders `frame` band by band into `provider`'s buffers with the span method `S`:
+/// [`Frame::bin`] into `mem`, then [`render_binned`].
 ///
 /// Bands are `band_rows` rows tall (the last one may be shorter; 0 counts as 1).
 /// `depth` holds at least `width · band_rows` entries and is required when the
 /// scene uses the depth test. Each band is cleared to `background` before drawing.
-/// The statistics are summed over the bands (a triangle spanning several bands
-/// counts in each). Errors: [`DrawError::Render`] from the frame, or
-/// [`DrawError::Buffer`] if the provider's buffer or `depth` is too small; the bands
-/// before the error have been sent.
+/// `mem` lends the memory for setting each triangle up once per frame
+/// ([`BandMemory`]; `BandMemory::new(&mut [], &mut [], &mut [])` lends none, and
+/// every band then walks all triangles again). Errors: [`DrawError::Render`] from
+/// the frame, or [`DrawError::Buffer`] if the provider's buffer or `depth` is too
+/// small; the bands before the error have been sent.
 ///
-/// See the [module docs](self) for an example.
+/// ```
+/// use core::ops::Range;
+/// use fixshade::prelude::*;
+/// use fixshade::raster::setup::Record;
+/// use fixshade::render::BandMemory;
+/// # let scene = fixshade::doc_support::scene();
+/// struct Spi([u16; 64 * 16]);
+/// impl LineBufferProvider for Spi {
+///     type Format = Rgb565Be;
+///     fn size(&self) -> (u32, u32) {
+///         (64, 48)
+///     }
+///     fn process_lines(&mut self, lines: Range<u32>, render: impl FnOnce(&mut [u16])) {
+///         render(&mut self.0[..64 * lines.len()]);
+///     }
+/// }
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 12], [0u32; 4]);
+/// let mem = BandMemory::new(&mut records, &mut index, &mut starts);
+/// let mut depth = [0u16; 64 * 16];
+/// let st = render_lines::<Gradient, _, _, _>(&frame, 16, mem, Some(&mut depth), 0, &mut Spi([0; 64 * 16])).unwrap();
+/// // Each triangle set up once, no band walked all triangles again.
+/// assert_eq!((st.triangles, st.rewalked), (1, 0));
+/// ```
 pub fn render_lines<S, P, L, Sp>(
     frame: &Frame<'_, '_, '_, P, Sp>,
     band_rows: u32,
+    mem: BandMemory<'_>,
+    depth: Option<&mut [u16]>,
+    background: P::Raw,
+    provider: &mut L,
+) -> Result<Stats, DrawError>
+where
+    S: SpanMethod,
+    P: PixelFormat,
+    L: LineBufferProvider<Format = P>,
+    Sp: Specular,
+{
+    let binned = frame.bin(band_rows, mem)?;
+    render_binned::<S, P, L, Sp>(&binned, depth, background, provider)
+}
+
+/// The band loop: renders every band of `binned` into `provider`'s buffers, top to
+/// bottom, with the span method `S` ([`Binned::draw_band`]). The statistics count
+/// each triangle once when the frame was binned, and once per band when the bands
+/// re-walk (then [`Stats::rewalked`] counts the bands). See [`render_lines`].
+pub fn render_binned<S, P, L, Sp>(
+    binned: &Binned<'_, '_, '_, '_, '_, P, Sp>,
     mut depth: Option<&mut [u16]>,
     background: P::Raw,
     provider: &mut L,
@@ -134,33 +184,20 @@ where
     if w == 0 || h == 0 {
         return Err(DrawError::Buffer(TargetError::BadSize));
     }
-    let band_rows = band_rows.max(1);
-    let mut total = Stats::default();
-    let mut y0 = 0;
-    while y0 < h {
-        let rows = band_rows.min(h - y0);
+    let mut total = binned.stats();
+    for band in 0..binned.bands() {
+        let rows = binned.rows(band);
         let mut result = Ok(Stats::default());
         let depth = depth.as_deref_mut();
-        provider.process_lines(y0..y0 + rows, |buf| {
-            result = band::<S, P, Sp>(frame, (w, h), buf, depth, background, y0, rows);
+        provider.process_lines(rows.clone(), |buf| {
+            result = Strip::<P>::new(buf, depth, w, h, rows.start, rows.len() as u32)
+                .map_err(DrawError::from)
+                .and_then(|mut strip| {
+                    strip.clear(background);
+                    Ok(binned.draw_band::<S, _>(band, &mut strip)?)
+                });
         });
         total += result?;
-        y0 += rows;
     }
     Ok(total)
-}
-
-/// Draws frame rows `[y0, y0 + rows)` into `buf`.
-fn band<S: SpanMethod, P: PixelFormat, Sp: Specular>(
-    frame: &Frame<'_, '_, '_, P, Sp>,
-    (w, h): (u32, u32),
-    buf: &mut [P::Raw],
-    depth: Option<&mut [u16]>,
-    background: P::Raw,
-    y0: u32,
-    rows: u32,
-) -> Result<Stats, DrawError> {
-    let mut strip = Strip::<P>::new(buf, depth, w, h, y0, rows)?;
-    strip.clear(background);
-    Ok(frame.draw::<S, _>(&mut strip)?)
 }

@@ -73,6 +73,9 @@ use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shad
 use crate::target::{to_channels, PixelFormat, Target};
 
 mod adaptive;
+mod bands;
+
+pub use bands::{BandMemory, Binned};
 
 /// A vertex after the vertex stage: its screen position, depth and lit colour in the
 /// target's channel units, and flags.
@@ -248,6 +251,10 @@ pub struct Stats {
     /// Adaptive shading only: triangles (clipped pieces count once per triangle)
     /// that a highlight may reach and so were drawn with per-pixel lighting.
     pub per_pixel: u32,
+    /// Bands drawn by walking every triangle again instead of from set-up records
+    /// ([`Binned::draw_band`]: the band memory was too small, or the method or the
+    /// shading has no records).
+    pub rewalked: u32,
 }
 
 impl core::ops::AddAssign for Stats {
@@ -260,6 +267,7 @@ impl core::ops::AddAssign for Stats {
         self.fallback += o.fallback;
         self.evaluations += o.evaluations;
         self.per_pixel += o.per_pixel;
+        self.rewalked += o.rewalked;
     }
 }
 

@@ -238,6 +238,33 @@ where
     )
 }
 
+/// Draws a set-up triangle from its [`setup::Record`] with the constant gradient
+/// (what [`span::Gradient`] draws), into whatever rows `target` holds: a record set
+/// up once can be drawn into any number of strips. Returns the pixels covered.
+///
+/// ```
+/// use fixshade::raster::setup::{setup, Record};
+/// use fixshade::raster::span::NoDepth;
+/// use fixshade::raster::{draw_record, ScreenVertex};
+/// use fixshade::shade::Gouraud;
+/// use fixshade::target::{Gray8, Strip};
+/// let v = |x: i32, y: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [200 << 16; 3] };
+/// let rec = Record::of(&setup([v(0, 0), v(0, 8), v(8, 0)]).unwrap());
+/// let (mut top, mut bottom) = ([0u8; 8 * 4], [0u8; 8 * 4]);
+/// let n = draw_record::<Gray8, _, NoDepth, Gouraud>(&mut Strip::new(&mut top, None, 8, 8, 0, 4).unwrap(), &rec)
+///     + draw_record::<Gray8, _, NoDepth, Gouraud>(&mut Strip::new(&mut bottom, None, 8, 8, 4, 4).unwrap(), &rec);
+/// assert_eq!(n, 36); // 8 + 7 + … + 1 pixels
+/// ```
+pub fn draw_record<P, T, Z, Sh>(target: &mut T, r: &setup::Record) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    Sh: Shading,
+{
+    fill_gradient::<P, T, Z, Sh>(target, r)
+}
+
 /// The constant-gradient fill of a set-up triangle ([`span::Gradient`]'s draw): the
 /// same rows, spans and values as [`draw_setup`] with [`span::Gradient`], from a walk
 /// that keeps less state per row. Each row's attribute values start from the lattice

@@ -171,6 +171,11 @@ pub trait SpanMethod {
     const EDGE_VALUES: bool;
     /// True if the method moves vertices ([`SpanMethod::snap`] is not the identity).
     const SNAPS: bool = false;
+    /// True if the method draws a triangle from its [`super::setup::Record`] alone
+    /// (the constant gradient with the exact setup), so a frame drawn in bands can
+    /// keep records instead of walking every triangle per band
+    /// ([`crate::render::Binned`]).
+    const RECORDS: bool = false;
     /// Where the method puts a screen vertex before culling and setup (the snapped
     /// Sierpinski variant moves vertices to even pixels). The identity by default.
     #[inline(always)]
@@ -528,6 +533,7 @@ pub struct Gradient;
 impl SpanMethod for Gradient {
     const NAME: &'static str = "gradient";
     const EDGE_VALUES: bool = false;
+    const RECORDS: bool = true;
     type Divider = Exact;
     type Tri = ();
     fn prepare(_: &Setup) {}
@@ -730,6 +736,7 @@ impl<S: SpanMethod, D: Divide> SpanMethod for WithDivide<S, D> {
     const NAME: &'static str = S::NAME;
     const EDGE_VALUES: bool = S::EDGE_VALUES;
     const SNAPS: bool = S::SNAPS;
+    const RECORDS: bool = S::RECORDS && D::EXACT;
     #[inline(always)]
     fn snap(v: ScreenVertex) -> ScreenVertex {
         S::snap(v)

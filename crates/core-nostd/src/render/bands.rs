@@ -1,0 +1,384 @@
+//! Drawing a prepared frame in horizontal bands without repeating work.
+//!
+//! A display without a whole framebuffer is fed band by band: a few rows rendered
+//! into a small buffer, sent, the next band. [`Frame::bin`] does the per-triangle
+//! work once per frame: every triangle is classified (culled, drawn or clipped) and
+//! set up once, into a [`Record`] (its sorted positions and the lattice of its
+//! attributes), and the records are sorted into bins, one list per band. Drawing a
+//! band ([`Binned::draw_band`]) then walks only the records of that band, starting
+//! each edge walk at the band's first row: the edge steppers are placed there
+//! directly (one division at most), the lattice is not recomputed. A band of 16 rows
+//! costs about what the same rows of a whole-frame draw cost.
+//!
+//! Memory is the caller's ([`BandMemory`]): records, the bins' index and the bins'
+//! starts, all sized by `const fn`s so a firmware can put them in `static`s. When
+//! the memory lent is too small for the frame, or the frame draws with a method or
+//! shading that has no records (everything but the constant gradient of Gouraud or
+//! flat shading with the exact setup), every band is drawn by walking all triangles
+//! again ([`Frame::draw`] on the band): the same pixels, more work, counted in
+//! [`Stats::rewalked`]. Never a panic, never a different pixel.
+//!
+//! A binned frame is shared, not mutated, by the band draws: two bands can be drawn
+//! at the same time into different buffers (the RP2040's two cores; two threads on
+//! the host).
+//!
+//! ```
+//! use fixshade::prelude::*;
+//! use fixshade::raster::setup::Record;
+//! use fixshade::render::BandMemory;
+//! # let scene = fixshade::doc_support::scene();
+//! let (w, h, rows) = (64, 48, 16);
+//! let mut cache = [XfVertex::default(); 3];
+//! let frame = Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache).unwrap();
+//! // Memory for up to 8 records of triangles at most 48 rows tall.
+//! let mut records = [Record::EMPTY; 8];
+//! let mut index = [0u16; BandMemory::index_len(8, 48, 16, 48)];
+//! let mut starts = [0u32; BandMemory::starts_len(48, 16)];
+//! let binned = frame.bin(rows, BandMemory::new(&mut records, &mut index, &mut starts)).unwrap();
+//! assert!(binned.complete());
+//! let (mut px, mut z) = ([0u16; 64 * 16], [0u16; 64 * 16]);
+//! let mut covered = 0;
+//! for band in 0..binned.bands() {
+//!     let mut strip = Strip::new(&mut px, Some(&mut z), w, h, band * rows, rows).unwrap();
+//!     strip.clear(0);
+//!     covered += binned.draw_band::<Gradient, _>(band, &mut strip).unwrap().pixels;
+//!     // ... send strip.color() to the display
+//! }
+//! // The same pixels as a whole-frame draw.
+//! let (mut fpx, mut fz) = ([0u16; 64 * 48], [0u16; 64 * 48]);
+//! let mut fb = Framebuffer::new(&mut fpx, Some(&mut fz), w, h).unwrap();
+//! fb.clear(0);
+//! assert_eq!(frame.draw::<Gradient, _>(&mut fb).unwrap().pixels, covered);
+//! ```
+
+use core::ops::Range;
+
+use super::{classify_refs, Class, Frame, RenderError, Stats, XfVertex};
+use crate::clip::ClipVertex;
+use crate::light::Specular;
+use crate::raster::edge::first_row;
+use crate::raster::outside_guard;
+use crate::raster::setup::{lattice, Record};
+use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
+use crate::raster::{fill_gradient, ScreenVertex};
+use crate::scene::ShadingMode;
+use crate::shade::{Flat, Gouraud, Shading};
+use crate::target::{PixelFormat, Target};
+
+/// Caller-owned memory of a frame drawn in bands: the setup records, the bins'
+/// index (record numbers, band after band) and the bins' starts.
+///
+/// RAM: `records · 76 + index · 2 + starts · 4` bytes ([`BandMemory::bytes`]).
+/// `records` bounds the triangles drawn (after culling; a clipped triangle may give
+/// up to seven pieces); `index` needs one entry per record and band it reaches
+/// ([`BandMemory::index_len`]); `starts` one per band and one more
+/// ([`BandMemory::starts_len`]). Too little of any of them is not an error: the
+/// frame is then drawn band by band without records ([`Stats::rewalked`]).
+///
+/// ```
+/// use fixshade::render::BandMemory;
+/// // 400 records of triangles up to 24 rows tall, in 16-row bands of a 240-row frame.
+/// const INDEX: usize = BandMemory::index_len(400, 240, 16, 24);
+/// const STARTS: usize = BandMemory::starts_len(240, 16);
+/// assert_eq!((INDEX, STARTS), (1200, 16));
+/// assert_eq!(BandMemory::bytes(400, INDEX, STARTS), 400 * 76 + 1200 * 2 + 16 * 4);
+/// ```
+pub struct BandMemory<'m> {
+    records: &'m mut [Record],
+    index: &'m mut [u16],
+    starts: &'m mut [u32],
+}
+
+impl<'m> BandMemory<'m> {
+    /// Lends the three arrays.
+    pub fn new(
+        records: &'m mut [Record],
+        index: &'m mut [u16],
+        starts: &'m mut [u32],
+    ) -> BandMemory<'m> {
+        BandMemory {
+            records,
+            index,
+            starts,
+        }
+    }
+
+    /// Bands of `band_rows` rows (at least 1) in a frame `height` rows tall.
+    pub const fn bands(height: u32, band_rows: u32) -> usize {
+        let r = if band_rows == 0 { 1 } else { band_rows };
+        height.div_ceil(r) as usize
+    }
+
+    /// Length of the bins' starts: one per band and one more.
+    pub const fn starts_len(height: u32, band_rows: u32) -> usize {
+        Self::bands(height, band_rows) + 1
+    }
+
+    /// Length of the bins' index for `records` records of triangles at most
+    /// `tallest` rows tall: each reaches at most `1 + ⌈(tallest − 1)/band_rows⌉`
+    /// bands (and no more than the frame has).
+    pub const fn index_len(records: usize, height: u32, band_rows: u32, tallest: u32) -> usize {
+        let r = if band_rows == 0 { 1 } else { band_rows };
+        let t = if tallest == 0 { 1 } else { tallest };
+        let per = 1 + (t - 1).div_ceil(r) as usize;
+        let bands = Self::bands(height, r);
+        records * if per < bands { per } else { bands }
+    }
+
+    /// Bytes of RAM the three arrays take.
+    pub const fn bytes(records: usize, index: usize, starts: usize) -> usize {
+        records * core::mem::size_of::<Record>() + index * 2 + starts * 4
+    }
+}
+
+/// A prepared frame whose triangles are set up and sorted into bands
+/// ([`Frame::bin`]); draw each band with [`Binned::draw_band`], in any order, from
+/// any thread.
+pub struct Binned<'f, 's, 'a, 'c, 'm, P: PixelFormat, Sp: Specular> {
+    frame: &'f Frame<'s, 'a, 'c, P, Sp>,
+    records: &'m [Record],
+    index: &'m [u16],
+    starts: &'m [u32],
+    band_rows: u32,
+    complete: bool,
+    stats: Stats,
+}
+
+impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
+    /// Classifies and sets up every triangle of the frame once and sorts the set-up
+    /// triangles into bands of `band_rows` rows (at least 1), in `mem`. See the
+    /// [module docs](self).
+    ///
+    /// The returned [`Binned::stats`] count the triangles (submitted, culled,
+    /// clipped, drawn) once; the band draws add the pixels.
+    pub fn bin<'f, 'm>(
+        &'f self,
+        band_rows: u32,
+        mem: BandMemory<'m>,
+    ) -> Result<Binned<'f, 's, 'a, 'c, 'm, P, Sp>, RenderError> {
+        let band_rows = band_rows.max(1);
+        let BandMemory {
+            records,
+            index,
+            starts,
+        } = mem;
+        let mut st = Stats::default();
+        let flat = match self.scene.shading {
+            ShadingMode::Gouraud => false,
+            ShadingMode::Flat => true,
+            // No records for the per-pixel and quadratic fills: bands re-walk.
+            _ => return Ok(self.unbinned(band_rows)),
+        };
+        let height = self.vp.height;
+        let bands = BandMemory::bands(height, band_rows);
+        if starts.len() < bands + 1 {
+            return Ok(self.unbinned(band_rows));
+        }
+        // 1. Every triangle classified and set up once, as a whole-frame draw does.
+        let mut n = 0usize;
+        let mut full = false;
+        let mut push = |r: Option<Record>| {
+            let Some(r) = r else { return };
+            match records.get_mut(n) {
+                Some(slot) => {
+                    *slot = r;
+                    n += 1;
+                }
+                None => full = true,
+            }
+        };
+        let cull = self.scene.cull_back;
+        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
+            let pos = obj.mesh.positions();
+            let verts = &self.cache[prep.offset..prep.offset + pos.len()];
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t: [&XfVertex; 3] = tri.map(|i| &verts[i as usize]);
+                let colour = |k: usize| if flat { t[2].s.c } else { t[k].s.c };
+                match classify_refs(t, cull, &self.vp, 0..height as i32) {
+                    Class::Skip => st.culled += 1,
+                    Class::Draw => {
+                        st.drawn += 1;
+                        if flat {
+                            let s: [ScreenVertex; 3] = core::array::from_fn(|k| ScreenVertex {
+                                c: colour(k),
+                                ..t[k].s
+                            });
+                            push(lattice([&s[0], &s[1], &s[2]]));
+                        } else {
+                            push(lattice([&t[0].s, &t[1].s, &t[2].s]));
+                        }
+                    }
+                    Class::Clip => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                            pos: prep.clip.transform(&pos[tri[k] as usize]),
+                            c: colour(k),
+                        });
+                        self.clip_fan(cv, cull, &mut st, |s, _| {
+                            if !outside_guard(s.map(|p| (p.x, p.y))) {
+                                push(lattice([&s[0], &s[1], &s[2]]));
+                            }
+                            0
+                        });
+                    }
+                }
+            }
+        }
+        if full || n > u16::MAX as usize + 1 {
+            return Ok(Binned {
+                stats: st,
+                ..self.unbinned(band_rows)
+            });
+        }
+        let records = &records[..n];
+        // 2. Counting sort into the bins: starts[b + 1] counts band b's records, then
+        //    the prefix sums make starts[b] band b's first entry.
+        let starts = &mut starts[..bands + 1];
+        starts.fill(0);
+        for r in records {
+            if let Some(bs) = band_span(r, height, band_rows) {
+                for c in &mut starts[bs.start + 1..bs.end + 1] {
+                    *c += 1;
+                }
+            }
+        }
+        for b in 0..bands {
+            starts[b + 1] += starts[b];
+        }
+        let total = starts[bands] as usize;
+        if total > index.len() {
+            return Ok(Binned {
+                stats: st,
+                ..self.unbinned(band_rows)
+            });
+        }
+        // Fill band by band with a cursor per band (starts[b] walks up to band b's
+        // end, which is band b + 1's start), then shift the cursors back.
+        for (i, r) in records.iter().enumerate() {
+            if let Some(bs) = band_span(r, height, band_rows) {
+                for c in &mut starts[bs] {
+                    index[*c as usize] = i as u16;
+                    *c += 1;
+                }
+            }
+        }
+        for b in (1..=bands).rev() {
+            starts[b] = starts[b - 1];
+        }
+        starts[0] = 0;
+        Ok(Binned {
+            frame: self,
+            records,
+            index: &index[..total],
+            starts,
+            band_rows,
+            complete: true,
+            stats: st,
+        })
+    }
+
+    /// A binned frame without records: every band re-walks the triangles.
+    fn unbinned<'f, 'm>(&'f self, band_rows: u32) -> Binned<'f, 's, 'a, 'c, 'm, P, Sp> {
+        Binned {
+            frame: self,
+            records: &[],
+            index: &[],
+            starts: &[],
+            band_rows,
+            complete: false,
+            stats: Stats::default(),
+        }
+    }
+}
+
+/// The bands a record's rows reach: `[first, last + 1)`, or `None` if it covers
+/// no row of the frame.
+#[inline]
+fn band_span(r: &Record, height: u32, band_rows: u32) -> Option<Range<usize>> {
+    let top = first_row(r.xy[0].1).max(0);
+    let bottom = first_row(r.xy[2].1).min(height as i32);
+    (top < bottom).then(|| {
+        let (t, b) = (top as u32 / band_rows, (bottom as u32 - 1) / band_rows);
+        t as usize..b as usize + 1
+    })
+}
+
+impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
+    /// Rows per band.
+    pub fn band_rows(&self) -> u32 {
+        self.band_rows
+    }
+
+    /// Number of bands in the frame.
+    pub fn bands(&self) -> u32 {
+        BandMemory::bands(self.frame.vp.height, self.band_rows) as u32
+    }
+
+    /// The frame rows of band `band`.
+    pub fn rows(&self, band: u32) -> Range<u32> {
+        let y0 = (band * self.band_rows).min(self.frame.vp.height);
+        y0..(y0 + self.band_rows).min(self.frame.vp.height)
+    }
+
+    /// True if every triangle was set up and binned; false if the memory was too
+    /// small or the frame's shading has no records (then each band re-walks).
+    pub fn complete(&self) -> bool {
+        self.complete
+    }
+
+    /// What the binning counted: triangles submitted, culled, clipped and drawn
+    /// (once per frame, pixels 0). Zero if it did not bin.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Draws band `band` into `target`, whose rows must lie within the band (and
+    /// whose size is the frame's). Records are drawn with the method `S` when it
+    /// draws from records ([`SpanMethod::RECORDS`]: the constant gradient with the
+    /// exact setup); otherwise, or when the frame was not binned, the band is drawn
+    /// by [`Frame::draw`] walking every triangle ([`Stats::rewalked`] is then 1).
+    /// The pixels are the same either way.
+    pub fn draw_band<S: SpanMethod, T: Target<P>>(
+        &self,
+        band: u32,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        let f = self.frame;
+        if target.width() != f.vp.width || target.frame_height() != f.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        let rows = self.rows(band);
+        let tr = target.rows();
+        if band >= self.bands() || tr.start < rows.start as i32 || tr.end > rows.end as i32 {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if !(S::RECORDS && self.complete) {
+            let mut st = f.draw::<S, T>(target)?;
+            st.rewalked = 1;
+            return Ok(st);
+        }
+        if f.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        let list = &self.index
+            [self.starts[band as usize] as usize..self.starts[band as usize + 1] as usize];
+        let pixels = match (f.scene.depth_test, f.scene.shading == ShadingMode::Flat) {
+            (true, false) => self.fill::<DepthTest, Gouraud, T>(list, target),
+            (true, true) => self.fill::<DepthTest, Flat, T>(list, target),
+            (false, false) => self.fill::<NoDepth, Gouraud, T>(list, target),
+            (false, true) => self.fill::<NoDepth, Flat, T>(list, target),
+        };
+        Ok(Stats {
+            pixels,
+            ..Stats::default()
+        })
+    }
+
+    /// The records `list` drawn into `target` with the constant gradient.
+    fn fill<Z: DepthMode, Sh: Shading, T: Target<P>>(&self, list: &[u16], target: &mut T) -> u32 {
+        list.iter()
+            .map(|&i| fill_gradient::<P, T, Z, Sh>(target, &self.records[i as usize]))
+            .sum()
+    }
+}
