@@ -73,7 +73,7 @@ use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shad
 use crate::target::{to_channels, PixelFormat, Target};
 
 mod adaptive;
-mod bands;
+pub mod bands;
 
 pub use bands::{BandMemory, Binned};
 

@@ -7,19 +7,32 @@
 //! `Gx = 16·(Δa1·dy2 − Δa2·dy1) / det` along a row and `Gy = 16·(Δa2·dx1 − Δa1·dx2) / det`
 //! down a column: the seed's `dI/dx`, the same on every scanline.
 //!
-//! Bounds: |dx|, |dy| < 2¹⁷ (guard band), so `det` < 2³⁵; |Δa| ≤ 2³² (depth), so each
-//! numerator is below 2⁵⁴ and fits `i64`. The quotient uses one reciprocal
-//! `inv = ⌊2⁶² / |det|⌋` and an `i128` product; its error is at most
-//! `|num|/2⁶² + ½ ≤ 0.51` of the attribute's last bit.
+//! Two ways compute the increments; [`setup`] takes the first where its error bound
+//! holds and the second everywhere else, so every triangle gets the bound below:
+//!
+//! - **32-bit** (`setup_fast`, every ordinary triangle): `|det|` cut to a 31-bit
+//!   mantissa, one table-and-Newton reciprocal ([`crate::math::recip_q61`], no
+//!   division), the four barycentric basis values `±16·d/det` from it, and each
+//!   increment from two 32×32-bit products ([`crate::math::mul_wide`]). Its extra
+//!   error, at most 2¹¹ units (colours) or 2¹⁴ units (depth) over any triangle it
+//!   takes, is checked per triangle before it is used.
+//! - **Exact** (`setup_with_det_div`: slivers, whose increments are huge and
+//!   cannot afford it): |dx|, |dy| < 2¹⁷ (guard band), so `det` < 2³⁵; |Δa| ≤ 2³²
+//!   (depth), so each numerator is below 2⁵⁴ and fits `i64`. The quotient uses one
+//!   reciprocal `inv = ⌊2⁶² / |det|⌋` and an `i128` product; its error is at most
+//!   `|num|/2⁶² + ½ ≤ 0.51` of the attribute's last bit.
 //!
 //! Every attribute value the rasterizer produces lies on the lattice
 //! `V(x, y) = A + (x − xa)·Gx + (y − ya)·Gy` (wrapping `i32`) anchored at the pixel
 //! `(xa, ya)` that holds the top vertex's first row. The anchor value `A` is the
 //! exact plane value there to within one unit plus the rounding bias. Against the
-//! exact plane the lattice is off by at most `0.51·(|x − xa| + |y − ya|) + 1` units,
-//! i.e. below 4200 units (0.065 of an output step) anywhere inside a triangle of the
-//! 4095-pixel range: the interpolated colour is within 0.5 + 0.065 < 1 output step
-//! of the exact value (the bound the accuracy tests check).
+//! exact plane the lattice is off by at most `0.51·(|x − xa| + |y − ya|) + 1` units
+//! from the exact path and `0.5·(|x − xa| + |y − ya|) + 2¹¹ + 1` (colours) from the
+//! 32-bit one, i.e. below 6300 units (0.1 of an output step) anywhere inside a
+//! triangle of the 4095-pixel range: the interpolated colour is within
+//! 0.5 + 0.1 < 1 output step of the exact value (the bound the accuracy tests
+//! check). Depth: below 2¹⁴ + 4200 units, 0.32 of a u16 step, so the stored u16 is
+//! within 1 of the exact one.
 
 use super::edge::first_row;
 use super::ScreenVertex;
@@ -278,7 +291,7 @@ pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// top to bottom and the lattice of its attributes — everything
 /// [`span::Gradient`](super::span::Gradient) draws from, 76 bytes, without the
 /// vertices' colours and depths. Built once per triangle, it is what a
-/// frame drawn in bands keeps per triangle ([`crate::bands`]).
+/// frame drawn in bands keeps per triangle ([`crate::render::bands`]).
 ///
 /// ```
 /// use fixshade::raster::setup::Record;
