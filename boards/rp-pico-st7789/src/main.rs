@@ -1,8 +1,25 @@
-//! fixshade on a Raspberry Pi Pico (RP2040, Cortex-M0+ at 125 MHz) driving a 240×240
-//! ST7789 over SPI0 with `mipidsi`: Newell's teapot (the built-in scene, baked by
-//! `fixshade bake teapot`) turning about y, drawn in strips of 16 rows
-//! (7.5 KiB colour + 7.5 KiB depth) and sent strip by strip. Each frame's time is
-//! logged over defmt-rtt.
+//! fixshade on a Raspberry Pi Pico (RP2040, two Cortex-M0+ at 125 MHz) driving a
+//! 240×240 ST7789 over SPI0: Newell's teapot (the built-in scene, baked by
+//! `fixshade bake teapot`) turning about y, drawn in bands of 16 rows on both cores
+//! and sent by DMA while the next bands are drawn.
+//!
+//! Per frame, core 0 runs the vertex stage ([`Frame::prepare`]) and sets every
+//! triangle up once into records binned by band ([`Frame::bin`], memory in
+//! `static`s sized by the `BandMemory` `const fn`s); then core 0 draws the even
+//! bands and core 1 the odd ones ([`Binned::draw_band`], shared read-only), each core
+//! into two band buffers of its own (7.5 KiB each) with one depth band (7.5 KiB).
+//! A drawn band is queued for the display; DMA channel 0 sends the bands to SPI0 in
+//! order, started by whichever core queues a band, takes a free buffer, or by the
+//! DMA interrupt on core 0 when a band has gone out. So band n + 1 (and n + 2, n + 3)
+//! is drawn while band n is on the wire, and the vertex stage of the next frame runs
+//! while the last bands of this one are sent.
+//!
+//! The frame goes to core 1 through two atomics: core 0 publishes the address of
+//! the binned frame and a frame number, core 1 answers with the same number when it
+//! has drawn its bands; core 0 changes nothing the frame borrows before that.
+//!
+//! Each frame's times (and per core: drawing, waiting for a free buffer) are logged
+//! over defmt-rtt.
 //!
 //! Wiring (Pico pin → display): GP18 → SCL/SCK, GP19 → SDA/MOSI, GP17 → CS,
 //! GP16 → DC, GP20 → RES, 3V3 → VCC and BLK, GND → GND.
@@ -11,18 +28,30 @@
 //! (`probe-rs run --chip RP2040`).
 #![no_std]
 #![no_main]
+#![deny(unsafe_code)]
 
 use defmt_rtt as _;
 use panic_probe as _;
 
-use embedded_graphics_core::pixelcolor::raw::RawU16;
-use embedded_graphics_core::pixelcolor::Rgb565;
+use core::cell::RefCell;
+use core::sync::atomic::{AtomicPtr, AtomicU32, Ordering};
+
+use critical_section::Mutex;
+use embedded_hal::digital::OutputPin;
+use embedded_hal::spi::SpiBus;
 use embedded_hal_bus::spi::ExclusiveDevice;
 use fixshade::fixed::Angle;
+use fixshade::raster::setup::Record;
 use fixshade::raster::span::Gradient;
-use fixshade::render::{Frame, XfVertex};
-use fixshade::target::{PixelFormat, Rgb565Le, Strip};
+use fixshade::render::{BandMemory, Binned, Frame, XfVertex};
+use fixshade::specular::BlinnExact;
+use fixshade::target::{PixelFormat, Rgb565Be, Strip};
+use hal::dma::{single_buffer, DMAExt, SingleChannel};
 use hal::fugit::RateExtU32;
+use hal::gpio::bank0::{Gpio16, Gpio18, Gpio19};
+use hal::gpio::{FunctionSioOutput, FunctionSpi, Pin, PullDown};
+use hal::multicore::{Multicore, Stack};
+use hal::pac::interrupt;
 use hal::Clock;
 use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
@@ -35,15 +64,31 @@ use rp2040_hal as hal;
 mod teapot;
 
 /// The second-stage bootloader for the Pico's W25Q080 flash.
+// The boot ROM reads these 256 bytes at the start of flash (memory.x's BOOT2).
+#[allow(unsafe_code)]
 #[link_section = ".boot2"]
 #[used]
 pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 const XOSC_HZ: u32 = 12_000_000;
+/// SPI0 at clk_peri / 2: 62.5 MHz from the 125 MHz system clock (the ST7789's
+/// fastest write clock; at 133 MHz the PL022 could only give 66.5 or 33.25 MHz).
+const SPI_HZ: u32 = 62_500_000;
 const W: u32 = 240;
 const H: u32 = 240;
 const ROWS: u32 = 16;
 const STRIP: usize = (W * ROWS) as usize;
+const BANDS: usize = BandMemory::bands(H, ROWS);
+
+/// Records for the most triangles the turning teapot draws at 240×240: 1785 (the
+/// largest `Binned::stats().drawn` over the 120 frames of the turn, counted on the
+/// host), and a few more. A frame that needs more is still drawn, band by band
+/// re-walking all triangles (`Stats::rewalked`, logged as a warning).
+const RECORDS: usize = 1800;
+/// The teapot's triangles are at most 17 rows tall at this size, so each reaches at
+/// most two 16-row bands.
+const INDEX: usize = BandMemory::index_len(RECORDS, H, ROWS, 17);
+const STARTS: usize = BandMemory::starts_len(H, ROWS);
 
 static mut CACHE: [XfVertex; teapot::MAX_CHUNK_VERTICES] = [XfVertex {
     s: fixshade::raster::ScreenVertex {
@@ -54,6 +99,253 @@ static mut CACHE: [XfVertex; teapot::MAX_CHUNK_VERTICES] = [XfVertex {
     },
     flags: 0,
 }; teapot::MAX_CHUNK_VERTICES];
+static mut RECORD_MEM: [Record; RECORDS] = [Record::EMPTY; RECORDS];
+static mut INDEX_MEM: [u16; INDEX] = [0; INDEX];
+static mut STARTS_MEM: [u32; STARTS] = [0; STARTS];
+/// Band buffers 0 and 1 are core 0's, 2 and 3 core 1's.
+static mut BAND_MEM: [[u16; STRIP]; 4] = [[0; STRIP]; 4];
+/// One depth band per core.
+static mut DEPTH_MEM: [[u16; STRIP]; 2] = [[0; STRIP]; 2];
+/// Core 1's stack: 4 KiB (drawing a band needs well under 1 KiB).
+static CORE1_STACK: Stack<1024> = Stack::new();
+
+/// The binned frame as core 1 sees it (lifetimes erased: see [`core1`]).
+type Shared = Binned<'static, 'static, 'static, 'static, 'static, Rgb565Be, BlinnExact>;
+/// The frame core 1 is to draw: its address, published before [`GO`].
+static FRAME: AtomicPtr<Shared> = AtomicPtr::new(core::ptr::null_mut());
+/// Frame number published by core 0 (after [`FRAME`]).
+static GO: AtomicU32 = AtomicU32::new(0);
+/// Frame number whose bands core 1 has drawn (written last, after its counters).
+static DONE: AtomicU32 = AtomicU32::new(0);
+/// Core 1's pixels, drawing time and waiting time of the frame [`DONE`] names (µs).
+static CORE1_PIXELS: AtomicU32 = AtomicU32::new(0);
+static CORE1_DRAW_US: AtomicU32 = AtomicU32::new(0);
+static CORE1_WAIT_US: AtomicU32 = AtomicU32::new(0);
+
+type Spi0 = hal::spi::Spi<
+    hal::spi::Enabled,
+    hal::pac::SPI0,
+    (
+        Pin<Gpio19, FunctionSpi, PullDown>,
+        Pin<Gpio18, FunctionSpi, PullDown>,
+    ),
+    8,
+>;
+type Dc = Pin<Gpio16, FunctionSioOutput, PullDown>;
+type Dma = hal::dma::Channel<hal::dma::CH0>;
+
+/// A band buffer on its way: drawn rows waiting for or on the wire, or free.
+struct Band {
+    px: &'static mut [u16; STRIP],
+    /// Pixels to send (a band's rows × width).
+    len: usize,
+    /// Which of the four buffers (its owner core is `id / 2`).
+    id: usize,
+}
+
+// SAFETY: the pointer and length describe `len · 2 ≤ STRIP · 2` bytes of a 'static
+// array that this `Band` borrows exclusively; moving the `Band` (into the DMA
+// transfer and back) does not move the array, and nothing writes to it while a
+// transfer owns the `Band`. Rgb565Be pixels are stored in the byte order the ST7789
+// takes, so the bytes go out in memory order.
+#[allow(unsafe_code)]
+unsafe impl embedded_dma::ReadBuffer for Band {
+    type Word = u8;
+    unsafe fn read_buffer(&self) -> (*const u8, usize) {
+        (self.px.as_ptr().cast(), self.len * 2)
+    }
+}
+
+/// SPI0 with its DMA channel: idle, or sending one band.
+enum Wire {
+    Idle(Dma, Spi0),
+    Busy(single_buffer::Transfer<Dma, Band, Spi0>),
+}
+
+/// The display link, shared by both cores and the DMA interrupt under the
+/// (two-core) critical section: drawn bands wait in `ready` until their turn.
+struct Link {
+    wire: Option<Wire>,
+    dc: Dc,
+    ready: [Option<Band>; BANDS],
+    /// The band to send next (0: a new frame starts, the window is set first).
+    next: usize,
+    free: [Option<Band>; 4],
+}
+
+static LINK: Mutex<RefCell<Option<Link>>> = Mutex::new(RefCell::new(None));
+
+impl Link {
+    /// Takes back the buffer of a finished transfer and starts the next band if
+    /// it is drawn. Cheap; called whenever anything may have changed.
+    fn kick(&mut self) {
+        loop {
+            match self.wire.take() {
+                Some(Wire::Busy(mut t)) => {
+                    if !t.is_done() {
+                        self.wire = Some(Wire::Busy(t));
+                        return;
+                    }
+                    t.check_irq0();
+                    let (ch, band, spi) = t.wait();
+                    let id = band.id;
+                    self.free[id] = Some(band);
+                    self.wire = Some(Wire::Idle(ch, spi));
+                }
+                Some(Wire::Idle(mut ch, mut spi)) => {
+                    ch.check_irq0();
+                    let Some(band) = self.ready[self.next].take() else {
+                        self.wire = Some(Wire::Idle(ch, spi));
+                        return;
+                    };
+                    if self.next == 0 {
+                        set_window(&mut spi, &mut self.dc);
+                    }
+                    self.next = (self.next + 1) % BANDS;
+                    let t = single_buffer::Config::new(ch, band, spi).start();
+                    self.wire = Some(Wire::Busy(t));
+                    return;
+                }
+                None => return,
+            }
+        }
+    }
+}
+
+/// The whole screen as the write window, then Memory Write: the frame's bands
+/// follow as data, top to bottom. The DC line changes only when SPI0 is idle.
+fn set_window(spi: &mut Spi0, dc: &mut Dc) {
+    let end = [0, 0, 0, (W - 1) as u8];
+    let end_rows = [0, 0, 0, (H - 1) as u8];
+    for (cmd, args) in [(0x2A, &end[..]), (0x2B, &end_rows[..]), (0x2C, &[][..])] {
+        let _ = spi.flush();
+        let _ = dc.set_low();
+        let _ = spi.write(&[cmd]);
+        let _ = spi.flush();
+        let _ = dc.set_high();
+        let _ = spi.write(args);
+    }
+    let _ = spi.flush();
+}
+
+fn with_link<R>(f: impl FnOnce(&mut Link) -> R) -> R {
+    critical_section::with(|cs| {
+        let mut link = LINK.borrow_ref_mut(cs);
+        f(link
+            .as_mut()
+            .expect("the link is set up before core 1 starts"))
+    })
+}
+
+/// Buffer `id` once its band has gone out.
+fn take_free(id: usize) -> Band {
+    loop {
+        if let Some(b) = with_link(|l| {
+            l.kick();
+            l.free[id].take()
+        }) {
+            return b;
+        }
+    }
+}
+
+/// Queues a drawn band for the display.
+fn submit(band: usize, buf: Band) {
+    with_link(|l| {
+        l.ready[band] = Some(buf);
+        l.kick();
+    });
+}
+
+#[interrupt]
+fn DMA_IRQ_0() {
+    critical_section::with(|cs| {
+        if let Some(l) = LINK.borrow_ref_mut(cs).as_mut() {
+            l.kick();
+        }
+    });
+}
+
+/// What one core did for a frame: pixels drawn, µs drawing, µs waiting for buffers.
+#[derive(Default)]
+struct Work {
+    pixels: u32,
+    draw_us: u32,
+    wait_us: u32,
+}
+
+/// Draws every other band of `binned` from `first` (0 on core 0, 1 on core 1) into
+/// the core's two buffers in turn (`turn` carries over between frames) and queues
+/// each for the display.
+fn draw_bands(
+    binned: &Binned<'_, '_, '_, '_, '_, Rgb565Be, BlinnExact>,
+    first: u32,
+    depth: &mut [u16; STRIP],
+    turn: &mut usize,
+    bg: u16,
+    timer: &hal::Timer,
+) -> Work {
+    let mut work = Work::default();
+    for band in (first..binned.bands()).step_by(2) {
+        let t0 = timer.get_counter();
+        let mut buf = take_free(2 * first as usize + *turn);
+        *turn ^= 1;
+        let t1 = timer.get_counter();
+        let rows = binned.rows(band);
+        buf.len = (W * rows.len() as u32) as usize;
+        let mut strip = Strip::<Rgb565Be>::new(
+            &mut buf.px[..],
+            Some(&mut depth[..]),
+            W,
+            H,
+            rows.start,
+            rows.len() as u32,
+        )
+        .unwrap();
+        strip.clear(bg);
+        work.pixels += binned
+            .draw_band::<Gradient, _>(band, &mut strip)
+            .unwrap()
+            .pixels;
+        submit(band as usize, buf);
+        let t2 = timer.get_counter();
+        work.wait_us += (t1 - t0).to_micros() as u32;
+        work.draw_us += (t2 - t1).to_micros() as u32;
+    }
+    work
+}
+
+/// Core 1: waits for a frame number on [`GO`], draws the odd bands of the frame at
+/// [`FRAME`], publishes its counters and answers on [`DONE`].
+fn core1(depth: &'static mut [u16; STRIP], bg: u16, timer: hal::Timer) -> ! {
+    let mut seen = 0;
+    let mut turn = 0;
+    loop {
+        let frame = GO.load(Ordering::Acquire);
+        if frame == seen {
+            cortex_m::asm::wfe();
+            continue;
+        }
+        seen = frame;
+        let work = {
+            // SAFETY: core 0 stored the address of a live `Binned` in FRAME before
+            // storing this frame number in GO (release; our acquire load above saw
+            // it). Core 0 keeps that `Binned`, and everything it borrows, alive,
+            // unmoved and unmodified until it reads this frame number from DONE,
+            // which we store only after the last use of the reference, which ends
+            // with this block. `Binned` is `Sync`: both cores only read it. The
+            // 'static lifetimes are never relied on beyond this block.
+            #[allow(unsafe_code)]
+            let binned: &Shared = unsafe { &*FRAME.load(Ordering::Acquire) };
+            draw_bands(binned, 1, depth, &mut turn, bg, &timer)
+        };
+        CORE1_PIXELS.store(work.pixels, Ordering::Relaxed);
+        CORE1_DRAW_US.store(work.draw_us, Ordering::Relaxed);
+        CORE1_WAIT_US.store(work.wait_us, Ordering::Relaxed);
+        DONE.store(frame, Ordering::Release);
+        cortex_m::asm::sev();
+    }
+}
 
 #[hal::entry]
 fn main() -> ! {
@@ -70,7 +362,7 @@ fn main() -> ! {
     )
     .ok()
     .unwrap();
-    let sio = hal::Sio::new(pac.SIO);
+    let mut sio = hal::Sio::new(pac.SIO);
     let pins = hal::gpio::Pins::new(
         pac.IO_BANK0,
         pac.PADS_BANK0,
@@ -79,66 +371,142 @@ fn main() -> ! {
     );
     let mut timer = hal::Timer::new(pac.TIMER, &mut pac.RESETS, &clocks);
 
-    let sck = pins.gpio18.into_function::<hal::gpio::FunctionSpi>();
-    let mosi = pins.gpio19.into_function::<hal::gpio::FunctionSpi>();
-    let spi = hal::spi::Spi::<_, _, _, 8>::new(pac.SPI0, (mosi, sck)).init(
+    let sck = pins.gpio18.into_function::<FunctionSpi>();
+    let mosi = pins.gpio19.into_function::<FunctionSpi>();
+    let mut spi: Spi0 = hal::spi::Spi::<_, _, _, 8>::new(pac.SPI0, (mosi, sck)).init(
         &mut pac.RESETS,
         clocks.peripheral_clock.freq(),
-        62_500_000u32.Hz(),
+        SPI_HZ.Hz(),
         embedded_hal::spi::MODE_3,
     );
-    let cs = pins.gpio17.into_push_pull_output();
-    let dc = pins.gpio16.into_push_pull_output();
-    let rst = pins.gpio20.into_push_pull_output();
-    let device = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
-    let mut buffer = [0u8; 512];
-    let di = SpiInterface::new(device, dc, &mut buffer);
-    let mut display = mipidsi::Builder::new(ST7789, di)
-        .display_size(W as u16, H as u16)
-        .invert_colors(ColorInversion::Inverted)
-        .reset_pin(rst)
-        .init(&mut timer)
-        .unwrap();
+    let mut cs = pins.gpio17.into_push_pull_output();
+    let mut dc: Dc = pins.gpio16.into_push_pull_output();
+    let mut rst = pins.gpio20.into_push_pull_output();
+    // mipidsi initialises the controller over borrowed pins and SPI, which come back
+    // when it is dropped; the frames then go out by DMA.
+    {
+        let device = ExclusiveDevice::new_no_delay(&mut spi, &mut cs).unwrap();
+        let mut buffer = [0u8; 64];
+        let di = SpiInterface::new(device, &mut dc, &mut buffer);
+        let _display = mipidsi::Builder::new(ST7789, di)
+            .display_size(W as u16, H as u16)
+            .invert_colors(ColorInversion::Inverted)
+            .reset_pin(&mut rst)
+            .init(&mut timer)
+            .unwrap();
+    }
+    // The display is alone on SPI0: selected for good.
+    cs.set_low().unwrap();
 
-    let mut scene = teapot::scene().unwrap();
-    // SAFETY: the only reference to the cache, taken once.
+    // SAFETY: the only references to these statics, taken once here before core 1
+    // starts; each is then owned by one core or moved with a `Band`.
     #[allow(unsafe_code)]
-    let cache = unsafe { &mut *core::ptr::addr_of_mut!(CACHE) };
-    let mut color = [0u16; STRIP];
-    let mut depth = [0u16; STRIP];
-    let bg = Rgb565Le::pack(
+    let (cache, records, index, starts, bands, depths) = unsafe {
+        (
+            &mut *core::ptr::addr_of_mut!(CACHE),
+            &mut *core::ptr::addr_of_mut!(RECORD_MEM),
+            &mut *core::ptr::addr_of_mut!(INDEX_MEM),
+            &mut *core::ptr::addr_of_mut!(STARTS_MEM),
+            &mut *core::ptr::addr_of_mut!(BAND_MEM),
+            &mut *core::ptr::addr_of_mut!(DEPTH_MEM),
+        )
+    };
+    let [b0, b1, b2, b3] = bands;
+    let [depth0, depth1] = depths;
+    let mut id = 0;
+    let free = [b0, b1, b2, b3].map(|px| {
+        id += 1;
+        Some(Band {
+            px,
+            len: STRIP,
+            id: id - 1,
+        })
+    });
+
+    let mut dma = pac.DMA.split(&mut pac.RESETS).ch0;
+    dma.enable_irq0();
+    critical_section::with(|cs| {
+        LINK.borrow_ref_mut(cs).replace(Link {
+            wire: Some(Wire::Idle(dma, spi)),
+            dc,
+            ready: [const { None }; BANDS],
+            next: 0,
+            free,
+        });
+    });
+    // SAFETY: the handler only takes the critical section, which every other user
+    // of LINK takes too; nothing here relies on DMA_IRQ_0 staying masked.
+    #[allow(unsafe_code)]
+    unsafe {
+        cortex_m::peripheral::NVIC::unmask(hal::pac::Interrupt::DMA_IRQ_0);
+    }
+
+    let bg = Rgb565Be::pack(
         teapot::BACKGROUND[0],
         teapot::BACKGROUND[1],
         teapot::BACKGROUND[2],
     );
+    let mut mc = Multicore::new(&mut pac.PSM, &mut pac.PPB, &mut sio.fifo);
+    let core1_timer = timer;
+    mc.cores()[1]
+        .spawn(CORE1_STACK.take().unwrap(), move || {
+            core1(depth1, bg, core1_timer)
+        })
+        .unwrap();
+
+    let mut scene = teapot::scene().unwrap();
     let step = Angle::from_degrees(3);
+    let mut turn = 0;
+    let mut frame_no = 0u32;
+    let mut last = timer.get_counter();
     loop {
         let t0 = timer.get_counter();
         let yaw = &mut scene.objects[0].placement.rotate[1];
         *yaw = yaw.wrapping_add(step);
-        let frame = Frame::<Rgb565Le>::prepare(&scene, W, H, &mut cache[..]).unwrap();
+        let frame = Frame::<Rgb565Be>::prepare(&scene, W, H, &mut cache[..]).unwrap();
         let t1 = timer.get_counter();
-        let mut pixels = 0;
-        for y0 in (0..H).step_by(ROWS as usize) {
-            let mut strip =
-                Strip::<Rgb565Le>::new(&mut color, Some(&mut depth), W, H, y0, ROWS).unwrap();
-            strip.clear(bg);
-            pixels += frame.draw::<Gradient, _>(&mut strip).unwrap().pixels;
-            let px = strip
-                .color()
-                .iter()
-                .map(|p| Rgb565::from(RawU16::new(u16::from_le(*p))));
-            display
-                .set_pixels(0, y0 as u16, W as u16 - 1, (y0 + ROWS - 1) as u16, px)
-                .unwrap();
-        }
+        let mem = BandMemory::new(&mut records[..], &mut index[..], &mut starts[..]);
+        let binned = frame.bin(ROWS, mem).unwrap();
         let t2 = timer.get_counter();
-        defmt::info!(
-            "frame: {=u64} us (vertex stage {=u64} us, strips incl. SPI {=u64} us), {=u32} px",
-            (t2 - t0).to_micros(),
-            (t1 - t0).to_micros(),
-            (t2 - t1).to_micros(),
-            pixels
+        if !binned.complete() {
+            defmt::warn!("records or index too small: bands re-walk the triangles");
+        }
+        frame_no = frame_no.wrapping_add(1).max(1);
+        FRAME.store(
+            (&binned as *const Binned<'_, '_, '_, '_, '_, Rgb565Be, BlinnExact>)
+                .cast_mut()
+                .cast::<Shared>(),
+            Ordering::Release,
         );
+        GO.store(frame_no, Ordering::Release);
+        cortex_m::asm::sev();
+        let work0 = draw_bands(&binned, 0, depth0, &mut turn, bg, &timer);
+        let t3 = timer.get_counter();
+        while DONE.load(Ordering::Acquire) != frame_no {
+            cortex_m::asm::wfe();
+        }
+        let t4 = timer.get_counter();
+        // Core 1 is done with the frame; `binned` (used last here) and `frame` go at
+        // the end of this iteration, before the next one changes what they borrow.
+        let triangles = binned.stats().drawn;
+        let us = |a: hal::timer::Instant, b: hal::timer::Instant| (b - a).to_micros() as u32;
+        defmt::info!(
+            "frame {=u32} us (period {=u32} us), {=u32} triangles: vertex {=u32} us, bin {=u32} us, bands {=u32} us (+{=u32} us waiting for core 1); \
+             core 0 draw {=u32} us wait {=u32} us {=u32} px; core 1 draw {=u32} us wait {=u32} us {=u32} px",
+            us(t0, t4),
+            us(last, t0),
+            triangles,
+            us(t0, t1),
+            us(t1, t2),
+            us(t2, t3),
+            us(t3, t4),
+            work0.draw_us,
+            work0.wait_us,
+            work0.pixels,
+            CORE1_DRAW_US.load(Ordering::Relaxed),
+            CORE1_WAIT_US.load(Ordering::Relaxed),
+            CORE1_PIXELS.load(Ordering::Relaxed),
+        );
+        last = t0;
     }
 }
