@@ -10,7 +10,7 @@ mod scenes;
 
 /// The MCU targets the core must build for, with the feature sets to try.
 const NO_STD_TARGETS: [&str; 2] = ["thumbv6m-none-eabi", "thumbv7em-none-eabihf"];
-const FEATURE_SETS: [&str; 4] = ["", "f32-input", "embedded-graphics", "defmt"];
+const FEATURE_SETS: [&str; 5] = ["", "f32-input", "embedded-graphics", "defmt", "fixed"];
 
 fn cargo(args: &[&str]) -> Result<(), String> {
     cargo_env(args, &[])

@@ -6,6 +6,14 @@
 //! side of the world); the raster stage, which works on raw integers, documents its
 //! own wrapping arithmetic where it relies on it.
 //!
+//! With the feature `fixed`, each type converts losslessly to and from its
+//! counterpart in the [`fixed`](https://docs.rs/fixed) crate (`Q16_16` ↔ `I16F16`,
+//! `Q2_14` ↔ `I2F14`, `Angle` ↔ `U0F32` turns; `From` both ways, the same bits).
+//! With `f32-input`, `f32` values convert by their bits (`Q16_16::from_f32`,
+//! `Q2_14::from_f32`); no float function is needed at that boundary (degrees go
+//! through `Angle::from_degrees_q16`, normals are normalised by the core in
+//! integers), so the crate has no `micromath` dependency.
+//!
 //! ```
 //! use fixshade::fixed::Q16_16;
 //! let a = Q16_16::from_ratio(3, 2); // 1.5
@@ -368,6 +376,68 @@ mod f32_input {
             i16::try_from(v)
                 .map(Q2_14)
                 .map_err(|_| NumError::OutOfRange)
+        }
+    }
+}
+
+/// Conversions to and from the [`fixed`](https://docs.rs/fixed) crate's types
+/// (feature `fixed`): each pair has the same bits, so the conversions are lossless
+/// and free. A firmware that keeps its model or its angles in `fixed` types hands
+/// them over as they are.
+///
+/// ```
+/// use fixed::types::{I16F16, I2F14, U0F32};
+/// use fixshade::fixed::{Angle, Q16_16, Q2_14};
+/// let x = I16F16::from_num(-1.25);
+/// let q: Q16_16 = x.into();
+/// assert_eq!(q, Q16_16::from_ratio(-5, 4));
+/// assert_eq!(I16F16::from(q), x);
+/// let n: Q2_14 = I2F14::from_num(0.5).into();
+/// assert_eq!(n.to_bits(), 1 << 13);
+/// assert_eq!(I2F14::from(Q2_14::ONE), I2F14::ONE);
+/// // An angle is a fraction of a turn: a quarter turn is 90°.
+/// let a: Angle = U0F32::from_num(0.25).into();
+/// assert_eq!(a, Angle::from_degrees(90));
+/// assert_eq!(U0F32::from(Angle::from_degrees(180)), U0F32::from_num(0.5));
+/// ```
+#[cfg(feature = "fixed")]
+mod fixed_crate {
+    use super::{Angle, Q16_16, Q2_14};
+    use ::fixed::types::{I16F16, I2F14, U0F32};
+
+    impl From<I16F16> for Q16_16 {
+        fn from(v: I16F16) -> Q16_16 {
+            Q16_16::from_bits(v.to_bits())
+        }
+    }
+
+    impl From<Q16_16> for I16F16 {
+        fn from(v: Q16_16) -> I16F16 {
+            I16F16::from_bits(v.to_bits())
+        }
+    }
+
+    impl From<I2F14> for Q2_14 {
+        fn from(v: I2F14) -> Q2_14 {
+            Q2_14::from_bits(v.to_bits())
+        }
+    }
+
+    impl From<Q2_14> for I2F14 {
+        fn from(v: Q2_14) -> I2F14 {
+            I2F14::from_bits(v.to_bits())
+        }
+    }
+
+    impl From<U0F32> for Angle {
+        fn from(v: U0F32) -> Angle {
+            Angle::from_turns_bits(v.to_bits())
+        }
+    }
+
+    impl From<Angle> for U0F32 {
+        fn from(v: Angle) -> U0F32 {
+            U0F32::from_bits(v.to_turns_bits())
         }
     }
 }
