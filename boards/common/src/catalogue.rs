@@ -244,7 +244,14 @@ pub fn firmware(
         .ok_or("peripherals taken twice")
         .and_then(|cp| {
             let mut counter = Counter::start(cp.SYST, core_hz, icount_shift);
-            run(board, color, depth, &mut counter, &mut Files(None), &mut Console)
+            run(
+                board,
+                color,
+                depth,
+                &mut counter,
+                &mut Files(None),
+                &mut Console,
+            )
         });
     match result {
         Ok(()) => {

@@ -52,7 +52,7 @@ use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
     feature = "perspective"
 )))]
 use fixshade_boards_common::cases;
-use fixshade_boards_common::{Counter, DrawFn, Fixed, FrameLog};
+use fixshade_boards_common::{mark_off, mark_on, Counter, DrawFn, Fixed, FrameLog};
 use semihosting::io::Write as _;
 
 #[cfg(feature = "sphere")]
@@ -330,6 +330,7 @@ fn setup_cost(
         without += b;
     }
     let _ = writeln!(Console, "SETUP {BOARD} {} {n} {with} {without}", FIGURE.0);
+    fixshade_boards_common::mark_discard();
     Ok(())
 }
 
@@ -364,6 +365,11 @@ fn frame<'s>(
     let (name, w, h) = FIGURE;
     let rows = strip.rows().len() as u32;
     let mut log = FrameLog {
+        layout: match rows {
+            1 => "strips-1",
+            2 => "strips-2",
+            _ => "strips",
+        },
         width: w,
         height: h,
         ..FrameLog::default()
@@ -450,7 +456,9 @@ fn prepare_and_draw<'s>(
     // `(Result<Frame>, u64)` cost this function 32 more bytes of a stack that is
     // short of room (measured with `-Z emit-stack-sizes`).
     let t0 = counter.ticks();
+    mark_on();
     let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);
+    mark_off();
     let t1 = counter.ticks();
     let prepare = counter.instructions(t1 - t0);
     let frame = frame.map_err(|_| "prepare failed")?;

@@ -259,6 +259,27 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
         self.strip.clear(c)
     }
 
+    /// The colour and depth buffers (row-major, `width · height` pixels), mutably:
+    /// for drawing the frame's rows through other targets, e.g. bands as
+    /// [`Strip`]s over its rows.
+    ///
+    /// ```
+    /// use fixshade::target::{Framebuffer, Gray8, Strip, Target};
+    /// let (mut c, mut d) = ([0u8; 4 * 4], [0u16; 4 * 4]);
+    /// let mut fb = Framebuffer::<Gray8>::new(&mut c, Some(&mut d), 4, 4).unwrap();
+    /// let (color, depth) = fb.buffers();
+    /// // Rows 2..4 of the frame as a strip of its own.
+    /// let strip = Strip::<Gray8>::new(&mut color[8..], depth.map(|d| &mut d[8..]), 4, 4, 2, 2).unwrap();
+    /// assert_eq!(strip.rows(), 2..4);
+    /// ```
+    pub fn buffers(&mut self) -> (&mut [P::Raw], Option<&mut [u16]>) {
+        let n = self.strip.width as usize * self.strip.h as usize;
+        (
+            &mut self.strip.color[..n],
+            self.strip.depth.as_deref_mut().map(|d| &mut d[..n]),
+        )
+    }
+
     /// The colour buffer.
     pub fn color(&self) -> &[P::Raw] {
         self.strip.color()
