@@ -81,8 +81,24 @@ const fn m0(features: &'static str, bin: &'static str, kind: Kind) -> Image {
     }
 }
 
+/// The mps2 image built for ARMv6-M, on QEMU's mps2-an385 (a Cortex-M3 machine
+/// with 4 MiB of RAM, which runs ARMv6-M code unchanged): the full-frame ARMv6-M
+/// image, named `mps2-an385-v6m` in its logs.
+const fn v6m(features: &'static str, bin: &'static str, kind: Kind) -> Image {
+    Image {
+        krate: "qemu-mps2-an386",
+        features,
+        target: "thumbv6m-none-eabi",
+        bin,
+        machine: "mps2-an385",
+        cpu: "cortex-m3",
+        kind,
+    }
+}
+
 const IMAGES: &[Image] = &[
     m4("", "fixshade-qemu-mps2-an386", Kind::Figures),
+    v6m("", "fixshade-qemu-mps2-an386", Kind::Figures),
     m4("catalogue", "fixshade-mps2-catalogue", Kind::Catalogue),
     m4("ray", "fixshade-mps2-ray", Kind::Ray),
     m4("scenes", "fixshade-mps2-scenes", Kind::Scenes),
@@ -147,7 +163,7 @@ fn build_real_boards(root: &Path) -> Result<Vec<(String, u64, u64)>, String> {
     let mut sizes = Vec::new();
     for (krate, target, bin) in REAL_BOARDS {
         let dir = root.join("boards").join(krate);
-        cargo_build(&dir, "", None)?;
+        cargo_build(&dir, None, "", None)?;
         let elf = dir.join("target").join(target).join("release").join(bin);
         let (flash, ram) = elf_sizes(&elf)?;
         eprintln!("xtask: {krate}: flash {flash} B, static RAM {ram} B (built, not run)");
@@ -172,12 +188,14 @@ struct FrameRow {
     pixels: u64,
     prepare: u64,
     draw: u64,
+    /// `full`, `bands-N` (bands of N rows from one binning) or `strips-N`.
+    layout: String,
 }
 
 impl FrameRow {
     fn parse(line: &str) -> Option<FrameRow> {
         let f: Vec<&str> = line.split_whitespace().collect();
-        if f.len() != 11 || f[0] != "FRAME" {
+        if !(f.len() == 11 || f.len() == 12) || f[0] != "FRAME" {
             return None;
         }
         let n = |i: usize| f[i].parse::<u64>().ok();
@@ -192,7 +210,27 @@ impl FrameRow {
             pixels: n(8)?,
             prepare: n(9)?,
             draw: n(10)?,
+            layout: f.get(11).unwrap_or(&"full").to_string(),
         })
+    }
+
+    /// The frame file the image wrote: `figure-case.rgb565`, or for a banded frame
+    /// `figure-case.bands-N.rgb565`.
+    fn file(&self) -> String {
+        if self.layout.starts_with("bands-") {
+            format!("{}-{}.{}.rgb565", self.figure, self.case, self.layout)
+        } else {
+            format!("{}-{}.rgb565", self.figure, self.case)
+        }
+    }
+
+    /// The method column: the case, with the layout when it is banded.
+    fn method(&self) -> String {
+        if self.layout.starts_with("bands-") {
+            format!("{} ({})", self.case, self.layout)
+        } else {
+            self.case.clone()
+        }
     }
 
     fn total(&self) -> u64 {
@@ -276,10 +314,18 @@ fn ensure_qemu() -> bool {
     have_qemu()
 }
 
-fn cargo_build(dir: &Path, features: &str, bin: Option<&str>) -> Result<(), String> {
+fn cargo_build(
+    dir: &Path,
+    target: Option<&str>,
+    features: &str,
+    bin: Option<&str>,
+) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.current_dir(dir).args(["build", "--release"]);
+    if let Some(t) = target {
+        cmd.args(["--target", t]);
+    }
     if !features.is_empty() {
         cmd.args(["--no-default-features", "--features", features]);
     }
@@ -464,6 +510,7 @@ pub fn qemu() -> Result<(), String> {
         let dir = root.join("boards").join(img.krate);
         cargo_build(
             &dir,
+            Some(img.target),
             img.features,
             (img.kind != Kind::Figures).then_some(img.bin),
         )?;
@@ -473,13 +520,19 @@ pub fn qemu() -> Result<(), String> {
             .join("release")
             .join(img.bin);
         let (flash, ram) = elf_sizes(&elf)?;
-        let label = if img.features.is_empty() {
-            img.krate.to_string()
+        // The mps2 crate builds for two cores: the ARMv6-M build is its own image.
+        let krate = if img.machine == "mps2-an385" {
+            format!("{} (ARMv6-M, mps2-an385)", img.krate)
         } else {
-            format!("{} ({})", img.krate, img.features)
+            img.krate.to_string()
+        };
+        let label = if img.features.is_empty() {
+            krate
+        } else {
+            format!("{krate} ({})", img.features)
         };
         sizes.push((label.clone(), flash, ram));
-        let out_dir = out_root.join(format!("{}-{}", img.krate, img.features));
+        let out_dir = out_root.join(format!("{}-{}-{}", img.krate, img.machine, img.features));
         let _ = std::fs::remove_dir_all(&out_dir);
         let t = Instant::now();
         let log = run_qemu(img, &elf, &out_dir)?;
@@ -572,7 +625,7 @@ pub fn qemu() -> Result<(), String> {
             let Some(r) = FrameRow::parse(line) else {
                 continue;
             };
-            let file = out_dir.join(format!("{}-{}.rgb565", r.figure, r.case));
+            let file = out_dir.join(r.file());
             let mcu = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
             let whole = host_frame(&mut scenes, &r.figure, &r.case, r.width, r.height, None)?;
             let host = match layout.get(&r.figure) {
@@ -717,7 +770,7 @@ fn tables(
 ) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
-        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep\n",
+        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep,layout\n",
     );
     md.push_str(
         "# Instructions on Cortex-M0 and Cortex-M4 (QEMU, `-icount shift=10`)\n\n\
@@ -764,7 +817,7 @@ fn tables(
             perspective::csv_names(&r.case).unwrap_or_else(|| dividers::csv_names(&r.case));
         let _ = writeln!(
             csv,
-            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep}",
+            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep},{}",
             r.board,
             r.figure,
             r.width,
@@ -777,7 +830,8 @@ fn tables(
             r.total(),
             fmt_per(r.total(), r.pixels),
             fmt_per(r.total(), r.triangles),
-            fmt_per(r.draw, r.pixels)
+            fmt_per(r.draw, r.pixels),
+            r.layout
         );
         if sweep != "span" {
             continue; // in the dividers section
@@ -796,7 +850,7 @@ fn tables(
         let _ = writeln!(
             md,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            r.case,
+            r.method(),
             r.drawn,
             r.pixels,
             r.prepare,

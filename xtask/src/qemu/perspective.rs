@@ -66,10 +66,16 @@ const fn m0(features: &'static str) -> Image {
 /// What `pipeline::load_arg` loads for a figure: a built-in scene's name, or the
 /// ground plane's scene file.
 pub(super) fn source(figure: &str) -> String {
-    if figure == "ground-plane" {
-        super::root().join(GROUND_PLANE).display().to_string()
-    } else {
-        figure.to_string()
+    match figure {
+        "ground-plane" => super::root().join(GROUND_PLANE).display().to_string(),
+        // The benchmark sphere at other segment counts (the image draws them at
+        // 320×240; the host frame takes its size from the FRAME line).
+        "bench-sphere-32x20" => "bench-sphere".to_string(),
+        "bench-sphere-64x40" | "bench-sphere-128x80" => super::root()
+            .join(format!("crates/sim-host/scenes/{figure}.toml"))
+            .display()
+            .to_string(),
+        _ => figure.to_string(),
     }
 }
 

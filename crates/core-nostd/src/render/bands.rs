@@ -299,9 +299,23 @@ fn band_span(r: &Record, height: u32, band_rows: u32) -> Option<Range<usize>> {
     let top = first_row(r.xy[0].1).max(0);
     let bottom = first_row(r.xy[2].1).min(height as i32);
     (top < bottom).then(|| {
-        let (t, b) = (top as u32 / band_rows, (bottom as u32 - 1) / band_rows);
+        let (t, b) = (
+            band_of(top as u32, band_rows),
+            band_of(bottom as u32 - 1, band_rows),
+        );
         t as usize..b as usize + 1
     })
+}
+
+/// The band of row `y`: a shift for band heights that are powers of two (no
+/// division, which ARMv6-M takes from a library routine), a division otherwise.
+#[inline(always)]
+fn band_of(y: u32, band_rows: u32) -> u32 {
+    if band_rows.is_power_of_two() {
+        y >> band_rows.trailing_zeros()
+    } else {
+        y / band_rows
+    }
 }
 
 impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
@@ -312,7 +326,7 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
 
     /// Number of bands in the frame.
     pub fn bands(&self) -> u32 {
-        BandMemory::bands(self.frame.vp.height, self.band_rows) as u32
+        band_of(self.frame.vp.height + self.band_rows - 1, self.band_rows)
     }
 
     /// The frame rows of band `band`.
