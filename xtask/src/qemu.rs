@@ -21,6 +21,7 @@ use fixshade_sim::bake::render_chunked;
 use fixshade_sim::pipeline::{self, LoadedScene};
 
 mod dividers;
+mod helpers;
 mod perspective;
 
 /// One firmware image: the board crate, cargo features, the QEMU machine.
@@ -190,6 +191,8 @@ struct FrameRow {
     draw: u64,
     /// `full`, `bands-N` (bands of N rows from one binning) or `strips-N`.
     layout: String,
+    /// Instructions inside compiler runtime helpers (`helpers` module).
+    helpers: u64,
 }
 
 impl FrameRow {
@@ -211,6 +214,7 @@ impl FrameRow {
             prepare: n(9)?,
             draw: n(10)?,
             layout: f.get(11).unwrap_or(&"full").to_string(),
+            helpers: 0,
         })
     }
 
@@ -440,6 +444,14 @@ pub(crate) fn first_difference(a: &[u8], b: &[u8]) -> String {
     }
 }
 
+/// Helper instructions and their share of the frame, e.g. `1204 (0.03 %)`.
+fn helper_share(r: &FrameRow) -> String {
+    if r.total() == 0 {
+        return r.helpers.to_string();
+    }
+    format!("{} ({:.2} %)", r.helpers, 100.0 * r.helpers as f64 / r.total() as f64)
+}
+
 fn fmt_per(a: u64, b: u64) -> String {
     if b == 0 {
         "-".into()
@@ -608,6 +620,10 @@ pub fn qemu() -> Result<(), String> {
             catalogue_skipped.extend(skipped);
             continue;
         }
+        // The figure images: a second run with the execution log gives each frame's
+        // instructions in compiler runtime helpers, in FRAME order.
+        let helper_counts = helpers::per_frame(img.machine, img.cpu, &elf, &out_dir)?;
+        let first_row = rows.len();
         let mut layout: HashMap<String, (u32, usize)> = HashMap::new();
         for line in log.lines() {
             if line.starts_with("SETUP ") {
@@ -664,6 +680,17 @@ pub fn qemu() -> Result<(), String> {
                 ));
             }
             rows.push(r);
+        }
+        let image_rows = &mut rows[first_row..];
+        if helper_counts.len() != image_rows.len() {
+            return Err(format!(
+                "{label}: {} FRAME lines but {} frames in the execution log",
+                image_rows.len(),
+                helper_counts.len()
+            ));
+        }
+        for (r, h) in image_rows.iter_mut().zip(helper_counts) {
+            r.helpers = h;
         }
     }
     perspective::check(&rows)?;
@@ -770,7 +797,7 @@ fn tables(
 ) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
-        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep,layout\n",
+        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep,layout,helpers\n",
     );
     md.push_str(
         "# Instructions on Cortex-M0 and Cortex-M4 (QEMU, `-icount shift=10`)\n\n\
@@ -781,8 +808,13 @@ fn tables(
          `prepare` is the vertex stage (`Frame::prepare`), `draw` the rasterizer\n\
          (`Frame::draw`); per pixel and per triangle divide the whole frame (prepare + draw)\n\
          by the covered pixels and by the submitted triangles, as the host benchmark does.\n\
-         On the Cortex-M0 the frame is drawn in strips and the mesh in vertex-bounded chunks,\n\
-         so its `prepare` runs once per strip and chunk (see boards/qemu-microbit).\n\n",
+         On the Cortex-M0 (micro:bit) the frame is drawn in strips and the mesh in\n\
+         vertex-bounded chunks, so its `prepare` runs once per strip and chunk (see\n\
+         boards/qemu-microbit); `mps2-an385-v6m` is the same ARMv6-M code drawing whole\n\
+         frames. A method with `(bands-N)` drew the frame in bands of N rows from one\n\
+         binning (`Frame::bin`), its `draw` the binning and every band. `helpers` is the\n\
+         instructions inside compiler runtime helpers (`__aeabi_*`, `__*di3`, `memcpy`, …)\n\
+         during prepare and draw, from QEMU's execution log, and their share of the frame.\n\n",
     );
     let _ = writeln!(
         md,
@@ -817,7 +849,7 @@ fn tables(
             perspective::csv_names(&r.case).unwrap_or_else(|| dividers::csv_names(&r.case));
         let _ = writeln!(
             csv,
-            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep},{}",
+            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep},{},{}",
             r.board,
             r.figure,
             r.width,
@@ -831,7 +863,8 @@ fn tables(
             fmt_per(r.total(), r.pixels),
             fmt_per(r.total(), r.triangles),
             fmt_per(r.draw, r.pixels),
-            r.layout
+            r.layout,
+            r.helpers
         );
         if sweep != "span" {
             continue; // in the dividers section
@@ -841,15 +874,15 @@ fn tables(
             let _ = writeln!(
                 md,
                 "\n## {} — {} at {}×{} ({} triangles)\n\n\
-                 | method | drawn | pixels | prepare | draw | total | per pixel | per triangle | draw per pixel |\n\
-                 | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+                 | method | drawn | pixels | prepare | draw | total | per pixel | per triangle | draw per pixel | helpers |\n\
+                 | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
                 r.board, r.figure, r.width, r.height, r.triangles
             );
             key = Some(k);
         }
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.method(),
             r.drawn,
             r.pixels,
@@ -858,7 +891,8 @@ fn tables(
             r.total(),
             fmt_per(r.total(), r.pixels),
             fmt_per(r.total(), r.triangles),
-            fmt_per(r.draw, r.pixels)
+            fmt_per(r.draw, r.pixels),
+            helper_share(r)
         );
     }
     md.push_str(&dividers::section(rows));
