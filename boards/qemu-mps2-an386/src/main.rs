@@ -318,14 +318,15 @@ fn run() -> Result<(), &'static str> {
     Ok(())
 }
 
-/// True unless the build renders one figure and case only (`FIXSHADE_ONLY=figure/case`
-/// at build time, for profiling) and it is another.
+/// True unless the build renders some figures and cases only
+/// (`FIXSHADE_ONLY=figure/case,figure/case` at build time, for profiling) and this
+/// is none of them.
 fn only(figure: &str, case: &str) -> bool {
     match option_env!("FIXSHADE_ONLY") {
-        Some(o) => {
-            let mut it = o.split('/');
+        Some(o) => o.split(',').any(|one| {
+            let mut it = one.split('/');
             it.next() == Some(figure) && it.next() == Some(case)
-        }
+        }),
         None => true,
     }
 }

@@ -253,7 +253,7 @@ where
 /// let (mut top, mut bottom) = ([0u8; 8 * 4], [0u8; 8 * 4]);
 /// let n = draw_record::<Gray8, _, NoDepth, Gouraud>(&mut Strip::new(&mut top, None, 8, 8, 0, 4).unwrap(), &rec)
 ///     + draw_record::<Gray8, _, NoDepth, Gouraud>(&mut Strip::new(&mut bottom, None, 8, 8, 4, 4).unwrap(), &rec);
-/// assert_eq!(n, 36); // 8 + 7 + … + 1 pixels
+/// assert_eq!(n, 28); // 7 + 6 + … + 1 pixels (centres inside x + y < 8)
 /// ```
 pub fn draw_record<P, T, Z, Sh>(target: &mut T, r: &setup::Record) -> u32
 where
