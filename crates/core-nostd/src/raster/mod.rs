@@ -27,6 +27,7 @@
 //! assert_eq!(rows, ["###.....", "##......", "#.......", "........"]);
 //! ```
 
+pub mod dsp;
 pub mod edge;
 pub mod parallel;
 pub mod perspective;

@@ -158,6 +158,23 @@ fn fill_kway<const K: usize, P: PixelFormat, Z: DepthMode, Sh: Shading>(
         return write_run::<P, Z, Sh>(color, depth, span.v, &tri.gx);
     }
     let n = color.len();
+    // With the DSP extension: the same lanes, two pixels per step (5-6-5 formats,
+    // spans whose channels stay in their packed lanes).
+    #[cfg(fixshade_dsp)]
+    if super::dsp::is_565::<P>() && n >= super::dsp::MIN_SPAN {
+        if let Some(p) = super::dsp::span_start_565(&span.v, &tri.gx, n) {
+            // The lanes j·ΔI and the step K·ΔI packed, from the packed increment (exact
+            // modulo 2^64, like the lanes).
+            let d = super::dsp::packed_565(&tri.gx);
+            let mut c = [p; K];
+            for j in 1..K {
+                c[j] = c[j - 1].wrapping_add(d);
+            }
+            let z = core::array::from_fn(|j| span.v[3].wrapping_add(l.start[j][3]));
+            let dc = c[K - 1].wrapping_add(d).wrapping_sub(p);
+            return super::dsp::kway::<K, P, Z>(color, depth, c, z, dc, l.step[3]);
+        }
+    }
     let mut acc: [[i32; ATTRS]; K] = core::array::from_fn(|j| add(&span.v, &l.start[j]));
     let mut i = 0;
     while i + K <= n {
@@ -350,6 +367,13 @@ pub struct Segment<const P: usize>;
 pub struct SegmentLanes {
     off: [[i32; MAX_SEGMENT]; ATTRS],
     step: [i32; ATTRS],
+    /// The offsets by pairs of pixels, colours packed in the 5-6-5 lanes
+    /// ([`super::dsp::segment`]).
+    #[cfg(fixshade_dsp)]
+    pairs: [super::dsp::PairOffsets; MAX_SEGMENT / 2],
+    /// The packed increment.
+    #[cfg(fixshade_dsp)]
+    packed: u64,
 }
 
 impl<const P: usize> Segment<P> {
@@ -418,9 +442,28 @@ impl<const P: usize> SpanMethod for Segment<P> {
                 lane[i] = lane[i - 1].wrapping_add(s.gx[a]);
             }
         }
+        // k·ΔI packed, from the packed increment (exact modulo 2^64, like the lanes).
+        #[cfg(fixshade_dsp)]
+        let (pairs, packed) = {
+            let d = super::dsp::packed_565(&s.gx);
+            let mut pairs = [super::dsp::PairOffsets::default(); MAX_SEGMENT / 2];
+            let mut k = 0u64;
+            for (j, p) in pairs.iter_mut().enumerate().take(Self::W / 2) {
+                *p = super::dsp::PairOffsets {
+                    c: [k, k.wrapping_add(d)],
+                    z: [off[3][2 * j], off[3][2 * j + 1]],
+                };
+                k = k.wrapping_add(d).wrapping_add(d);
+            }
+            (pairs, d)
+        };
         SegmentLanes {
             off,
             step: times(&s.gx, Self::W),
+            #[cfg(fixshade_dsp)]
+            pairs,
+            #[cfg(fixshade_dsp)]
+            packed,
         }
     }
     #[inline(always)]
@@ -436,6 +479,23 @@ impl<const P: usize> SpanMethod for Segment<P> {
         }
         let w = Self::W;
         let n = color.len();
+        // With the DSP extension: the same segments, two pixels per step (5-6-5
+        // formats, whose packed lanes are `Rgb565Le`'s; spans whose channels stay in
+        // their lanes).
+        #[cfg(fixshade_dsp)]
+        if super::dsp::is_565::<P2>() && n >= super::dsp::MIN_SPAN {
+            if let Some(c) = super::dsp::span_start_565(&span.v, &tri.gx, n) {
+                return super::dsp::segment::<P2, Z>(
+                    color,
+                    depth,
+                    &data.pairs[..w / 2],
+                    c,
+                    span.v[3],
+                    data.packed,
+                    tri.gx[3],
+                );
+            }
+        }
         let mut base = span.v;
         let mut i = 0;
         while i < n {
