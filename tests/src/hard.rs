@@ -8,7 +8,7 @@ use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex, GUARD};
 use fixshade::shade::{Flat, Gouraud};
-use fixshade_sim::desc::{Named, SpanName};
+use fixshade_sim::scene::desc::{Named, SpanName};
 use fixshade_sim::with_span_method;
 
 use crate::{area2, Count, Guarded, Rec, Winding, Window, P2};
@@ -95,7 +95,7 @@ pub fn span_methods() -> Vec<SpanName> {
 /// True for the method that moves vertices (its coverage and colours are those of
 /// a snapped triangle, not of the input).
 pub fn snaps(s: SpanName) -> bool {
-    s == SpanName::Sierpinski
+    s == SpanName::named("sierpinski")
 }
 
 fn in_guard(v: &[ScreenVertex; 3]) -> bool {

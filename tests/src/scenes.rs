@@ -1,6 +1,6 @@
 //! The whole-pipeline hard cases (`tests/catalogue/scenes.toml`) baked for the QEMU
 //! firmware (`boards/baked/scenes/`): every case loaded as [`SceneCase::load`] gives
-//! it to the renderer and baked by `fixshade bake` ([`fixshade_sim::bake`]) twice,
+//! it to the renderer and baked by `fixshade bake` ([`fixshade_sim::render::bake`]) twice,
 //! whole meshes (`full/`, the Cortex-M4 image) and in chunks of at most [`CHUNK`]
 //! vertices (`chunk/`, the Cortex-M0 image), plus an index per layout (`full.rs`,
 //! `chunk.rs`) with the table of cases the firmware runs. `cargo xtask bake-scenes`
@@ -10,7 +10,7 @@
 use std::fmt::Write as _;
 
 use crate::catalogue::{scene_cases, SceneCase};
-use fixshade_sim::bake::bake_loaded;
+use fixshade_sim::render::bake::bake_loaded;
 
 /// The chunks' vertex limit of the Cortex-M0 layout (its vertex cache).
 pub const CHUNK: usize = 64;

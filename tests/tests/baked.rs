@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use fixshade_sim::bake::bake;
+use fixshade_sim::render::bake::bake;
 
 /// (file under boards/baked, input, chunk vertex limit).
 const BAKED: &[(&str, &str, Option<usize>)] = &[
@@ -118,9 +118,16 @@ fn baked_scene_files_match_their_source() {
     let mut stale = Vec::new();
     for (file, input) in BAKED_FILES {
         let command = format!("fixshade bake {input}");
-        let ls = fixshade_sim::pipeline::load_arg(&root.join(input).display().to_string()).unwrap();
-        let b = fixshade_sim::bake::bake_loaded(input, Some(&ls.desc), &ls.fixed, None, &command)
-            .unwrap();
+        let ls =
+            fixshade_sim::scene::load::load_arg(&root.join(input).display().to_string()).unwrap();
+        let b = fixshade_sim::render::bake::bake_loaded(
+            input,
+            Some(&ls.desc),
+            &ls.fixed,
+            None,
+            &command,
+        )
+        .unwrap();
         let path = root.join("boards/baked").join(file);
         if bless {
             std::fs::write(&path, &b.source).unwrap();

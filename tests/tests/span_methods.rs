@@ -8,32 +8,33 @@ use fixshade::raster::span::{DepthTest, Gradient, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::Gouraud;
 use fixshade::target::{Framebuffer, Rgb888};
-use fixshade_sim::desc::{Named, SpanName};
-use fixshade_sim::pipeline;
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::{Named, SpanName};
+use fixshade_sim::scene::load;
 
 const EXACT_METHODS: [SpanName; 11] = [
-    SpanName::EvenOdd,
-    SpanName::KWay2,
-    SpanName::KWay3,
-    SpanName::KWay4,
-    SpanName::Counter,
-    SpanName::Segment2,
-    SpanName::Segment4,
-    SpanName::Segment8,
-    SpanName::Segment16,
-    SpanName::Segment32,
-    SpanName::Segment64,
+    SpanName::named("even-odd"),
+    SpanName::named("kway2"),
+    SpanName::named("kway3"),
+    SpanName::named("kway4"),
+    SpanName::named("counter"),
+    SpanName::named("segment2"),
+    SpanName::named("segment4"),
+    SpanName::named("segment8"),
+    SpanName::named("segment16"),
+    SpanName::named("segment32"),
+    SpanName::named("segment64"),
 ];
 
 #[test]
 fn figures_are_bit_identical_to_gradient() {
     for fig in ["sphere", "teapot", "robot"] {
-        let mut ls = pipeline::load_arg(fig).unwrap();
-        ls.desc.span = SpanName::Gradient;
-        let want = pipeline::render(&ls, None).unwrap().bytes;
+        let mut ls = load::load_arg(fig).unwrap();
+        ls.desc.span = SpanName::GRADIENT;
+        let want = render::render(&ls, None).unwrap().bytes;
         for m in EXACT_METHODS {
             ls.desc.span = m;
-            let got = pipeline::render(&ls, None).unwrap().bytes;
+            let got = render::render(&ls, None).unwrap().bytes;
             let diff = want.iter().zip(&got).filter(|(a, b)| a != b).count();
             assert_eq!(
                 diff,

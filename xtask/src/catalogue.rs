@@ -8,7 +8,7 @@ use fixshade::raster::span::{DepthTest, NoDepth};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::{Flat, Gouraud};
 use fixshade::target::{PixelFormat, Rgb888, Strip};
-use fixshade_sim::desc::{Named, SpanName};
+use fixshade_sim::scene::desc::{Named, SpanName};
 use fixshade_sim::with_span_method;
 
 /// The baked catalogue (generated from tests/catalogue/triangles.toml; the test

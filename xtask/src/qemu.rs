@@ -17,8 +17,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use fixshade_sim::bake::render_chunked;
-use fixshade_sim::pipeline::{self, LoadedScene};
+use fixshade_sim::render;
+use fixshade_sim::render::render_chunked;
+use fixshade_sim::scene::load;
+use fixshade_sim::scene::load::LoadedScene;
 
 mod dividers;
 mod perspective;
@@ -371,7 +373,7 @@ fn host_frame(
     if !scenes.contains_key(figure) {
         scenes.insert(
             figure.to_string(),
-            pipeline::load_arg(&perspective::source(figure))?,
+            load::load_arg(&perspective::source(figure))?,
         );
     }
     let mut ls = scenes[figure].clone();
@@ -381,7 +383,7 @@ fn host_frame(
         dividers::apply(&mut ls.desc, case)?;
     }
     match cut {
-        None => Ok(pipeline::render(&ls, None)?.bytes),
+        None => Ok(render::render(&ls, None)?.bytes),
         Some((rows, chunk)) => render_chunked(&ls, chunk, rows),
     }
 }
@@ -501,10 +503,10 @@ pub fn qemu() -> Result<(), String> {
                 };
                 let file = out_dir.join(format!("ray-{name}.rgb565"));
                 let mcu = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
-                let mut ls = pipeline::load_arg(name)?;
+                let mut ls = load::load_arg(name)?;
                 ls.desc.width = w.parse().map_err(|_| format!("bad line: {line}"))?;
                 ls.desc.height = h.parse().map_err(|_| format!("bad line: {line}"))?;
-                let host = fixshade_sim::raycast::render(&ls)?.bytes;
+                let host = fixshade_sim::render::raycast::render(&ls)?.bytes;
                 checked += 1;
                 ray_frames += 1;
                 if mcu != host {

@@ -6,10 +6,10 @@
 use std::path::Path;
 
 use fixshade::fixed::Q16_16;
-use fixshade_sim::convert::q16;
-use fixshade_sim::desc::MaterialDesc;
-use fixshade_sim::pipeline;
-use fixshade_sim::raycast::threshold_q8;
+use fixshade_sim::scene::convert::q16;
+use fixshade_sim::scene::convert::threshold_q8;
+use fixshade_sim::scene::desc::MaterialDesc;
+use fixshade_sim::scene::load;
 
 /// (file under boards/baked/ray, built-in scene).
 pub const RAY_SCENES: &[(&str, &str)] = &[
@@ -39,8 +39,8 @@ fn material(m: &MaterialDesc) -> String {
 /// The source of one baked ray scene.
 pub fn bake_ray(scene: &str) -> Result<String, String> {
     let command = format!("cargo xtask bake-ray ({scene})");
-    let mut s = fixshade_sim::bake::bake(scene, None, &command)?.source;
-    let ls = pipeline::load_arg(scene)?;
+    let mut s = fixshade_sim::render::bake::bake(scene, None, &command)?.source;
+    let ls = load::load_arg(scene)?;
     let r = &ls.desc.raycast;
     s.push_str(&format!(
         "\n// The ray caster's part of the scene (added by `cargo xtask bake-ray`).\n\n\

@@ -13,11 +13,11 @@
 //!
 //! | list | your macro receives |
 //! | --- | --- |
-//! | [`for_each_span_method!`] | `[args] Type, Type, …` |
-//! | [`for_each_divider!`] | `[args] Type, Type, …` |
-//! | [`for_each_specular!`] | `[args] (name, Type), (name, Type), …` |
-//! | [`for_each_shading!`] | `[args] (name, ShadingMode, Type), …` |
-//! | [`for_each_pixel_format!`] | `[args] Type, Type, …` |
+//! | [`for_each_span_method!`](crate::for_each_span_method) | `[args] Type, Type, …` |
+//! | [`for_each_divider!`](crate::for_each_divider) | `[args] Type, Type, …` |
+//! | [`for_each_specular!`](crate::for_each_specular) | `[args] (name, Type), (name, Type), …` |
+//! | [`for_each_shading!`](crate::for_each_shading) | `[args] (name, ShadingMode, Type), …` |
+//! | [`for_each_pixel_format!`](crate::for_each_pixel_format) | `[args] Type, Type, …` |
 //!
 //! `args` is whatever you write in brackets after your macro's name (nothing if you
 //! write no brackets), handed through unchanged. A `; D` after it (a [`Divide`] type)
@@ -76,7 +76,9 @@ use crate::{
 #[macro_export]
 macro_rules! for_each_span_method {
     ($($cb:ident)::+ $([$($a:tt)*])?) => {
-        $crate::__span_method_list! { $($cb)::+ [$($($a)*)?] $crate::divide::Exact }
+        $crate::__span_method_list! {
+            $crate::__span_methods_plain [$($cb)::+ [$($($a)*)?]] $crate::divide::Exact
+        }
     };
     ($($cb:ident)::+ $([$($a:tt)*])? ; $D:ty) => {
         $crate::__span_method_list! {
@@ -85,29 +87,53 @@ macro_rules! for_each_span_method {
     };
 }
 
-/// The span methods, `classic` dividing per span with `$D`. The one place that
-/// names them.
+/// The span methods with a line on each, `classic` dividing per span with `$D`. The
+/// one place that names them.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __span_method_list {
     ($($cb:ident)::+ [$($a:tt)*] $D:ty) => {
         $($cb)::+! { [$($a)*]
-            $crate::raster::span::Classic<$D>,
-            $crate::raster::span::Gradient,
-            $crate::raster::parallel::EvenOdd,
-            $crate::raster::parallel::KWay<2>,
-            $crate::raster::parallel::KWay<3>,
-            $crate::raster::parallel::KWay<4>,
-            $crate::raster::parallel::Counter,
-            $crate::raster::parallel::Segment<2>,
-            $crate::raster::parallel::Segment<4>,
-            $crate::raster::parallel::Segment<8>,
-            $crate::raster::parallel::Segment<16>,
-            $crate::raster::parallel::Segment<32>,
-            $crate::raster::parallel::Segment<64>,
-            $crate::raster::sierpinski::Sierpinski,
-            $crate::raster::sierpinski::SierpinskiExact,
+            ($crate::raster::span::Classic<$D>,
+             "per-span division of the end values (baseline)"),
+            ($crate::raster::span::Gradient,
+             "constant per-triangle increment (seed 000 §2.1)"),
+            ($crate::raster::parallel::EvenOdd,
+             "two accumulators over even and odd pixels; same pixels as gradient"),
+            ($crate::raster::parallel::KWay<2>,
+             "K accumulators stepping K·ΔI; same pixels as gradient"),
+            ($crate::raster::parallel::KWay<3>,
+             "K accumulators stepping K·ΔI; same pixels as gradient"),
+            ($crate::raster::parallel::KWay<4>,
+             "K accumulators stepping K·ΔI; same pixels as gradient"),
+            ($crate::raster::parallel::Counter,
+             "two interpolators from both span ends; same pixels as gradient"),
+            ($crate::raster::parallel::Segment<2>,
+             "P units filling segments of w pixels; same pixels as gradient"),
+            ($crate::raster::parallel::Segment<4>,
+             "P units filling segments of w pixels; same pixels as gradient"),
+            ($crate::raster::parallel::Segment<8>,
+             "P units filling segments of w pixels; same pixels as gradient"),
+            ($crate::raster::parallel::Segment<16>,
+             "P units filling segments of w pixels; same pixels as gradient"),
+            ($crate::raster::parallel::Segment<32>,
+             "P units filling segments of w pixels; same pixels as gradient"),
+            ($crate::raster::parallel::Segment<64>,
+             "P units filling segments of w pixels; same pixels as gradient"),
+            ($crate::raster::sierpinski::Sierpinski,
+             "midpoint subdivision with vertices snapped to even pixels (approximate)"),
+            ($crate::raster::sierpinski::SierpinskiExact,
+             "midpoint subdivision only where exact; same pixels as gradient"),
         }
+    };
+}
+
+/// Hands the types of the list (without their lines) to the callback.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __span_methods_plain {
+    ([$($cb:ident)::+ [$($a:tt)*]] $(($S:ty, $line:expr)),* $(,)?) => {
+        $($cb)::+! { [$($a)*] $($S),* }
     };
 }
 
@@ -115,8 +141,17 @@ macro_rules! __span_method_list {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __span_methods_with_divide {
-    ([$($cb:ident)::+ [$($a:tt)*] $D:ty] $($S:ty),* $(,)?) => {
+    ([$($cb:ident)::+ [$($a:tt)*] $D:ty] $(($S:ty, $line:expr)),* $(,)?) => {
         $($cb)::+! { [$($a)*] $($crate::raster::span::WithDivide<$S, $D>),* }
+    };
+}
+
+/// The lines of the list, in order.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fixshade_lines {
+    ([] $(($T:ty, $line:expr)),* $(,)?) => {
+        &[$($line),*]
     };
 }
 
@@ -188,17 +223,50 @@ macro_rules! for_each_divider {
 #[macro_export]
 macro_rules! for_each_specular {
     ($($cb:ident)::+ $([$($a:tt)*])?) => {
-        $crate::for_each_specular!($($cb)::+ $([$($a)*])? ; $crate::divide::Exact)
+        $crate::for_each_specular! { $($cb)::+ $([$($a)*])? ; $crate::divide::Exact }
     };
     ($($cb:ident)::+ $([$($a:tt)*])? ; $D:ty) => {
-        $($cb)::+! { [$($($a)*)?]
-            ($crate::specular::NAMES[0], $crate::light::BlinnExact),
-            (<$crate::specular::Schlick>::NAME, $crate::specular::Schlick<$D>),
-            (<$crate::specular::SchlickModified>::NAME, $crate::specular::SchlickModified<$D>),
-            ($crate::specular::Quadratic::NAME, $crate::specular::Quadratic),
-            ($crate::specular::CosQuadratic::NAME, $crate::specular::CosQuadratic),
-            ($crate::specular::CosQuadraticEnergy::NAME, $crate::specular::CosQuadraticEnergy),
+        $crate::__specular_list! { $crate::__specular_plain [$($cb)::+ [$($($a)*)?]] $D }
+    };
+}
+
+/// The specular models with their names and a line on each, Schlick's two dividing
+/// with `$D`. The one place that names them.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __specular_list {
+    ($($cb:ident)::+ [$($a:tt)*] $D:ty) => {
+        $($cb)::+! { [$($a)*]
+            ($crate::specular::NAMES[0], $crate::light::BlinnExact, "c^n"),
+            (<$crate::specular::Schlick>::NAME, $crate::specular::Schlick<$D>,
+             "c / (n - n·c + c)"),
+            (<$crate::specular::SchlickModified>::NAME, $crate::specular::SchlickModified<$D>,
+             "the seed's modified Schlick"),
+            ($crate::specular::Quadratic::NAME, $crate::specular::Quadratic,
+             "a·c² + (1 - a)·c, a(n) from a table"),
+            ($crate::specular::CosQuadratic::NAME, $crate::specular::CosQuadratic,
+             "(σ(c - 1) + 1)², σ = (n + 1)/3"),
+            ($crate::specular::CosQuadraticEnergy::NAME, $crate::specular::CosQuadraticEnergy,
+             "energy-conserving cosine-quadratic, (n + 6)/24.55 factor"),
         }
+    };
+}
+
+/// Hands `(name, type)` of each model to the callback.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __specular_plain {
+    ([$($cb:ident)::+ [$($a:tt)*]] $(($name:expr, $Sp:ty, $line:expr)),* $(,)?) => {
+        $($cb)::+! { [$($a)*] $(($name, $Sp)),* }
+    };
+}
+
+/// The lines of the specular list, in order.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fixshade_specular_lines {
+    ([] $(($name:expr, $Sp:ty, $line:expr)),* $(,)?) => {
+        &[$($line),*]
     };
 }
 
@@ -261,7 +329,7 @@ macro_rules! for_each_pixel_format {
 
 /// `Some($body)` with the type `$S` bound to the span method named `$name` (a
 /// `&str`), `None` for a name that is not in the list. With `; D`, the methods divide
-/// with `D` (as [`for_each_span_method!`] with `; D`).
+/// with `D` (as [`for_each_span_method!`](crate::for_each_span_method) with `; D`).
 ///
 /// ```
 /// use fixshade::raster::span::SpanMethod;
@@ -270,9 +338,9 @@ macro_rules! for_each_pixel_format {
 #[macro_export]
 macro_rules! select_span_method {
     ($name:expr, $S:ident => $body:expr) => {
-        $crate::for_each_span_method!($crate::__fixshade_select_by_trait_name[
+        $crate::for_each_span_method! { $crate::__fixshade_select_by_trait_name[
             $crate::raster::span::SpanMethod, $name, $S, $body
-        ])
+        ] }
     };
     ($name:expr, $S:ident => $body:expr ; $D:ty) => {
         $crate::for_each_span_method!($crate::__fixshade_select_by_trait_name[
@@ -295,6 +363,43 @@ macro_rules! select_divider {
             $crate::divide::Divide, $name, $D, $body
         ])
     };
+}
+
+/// `Some($body)` with the type `$Sp` bound to the specular model named `$name`,
+/// `None` for an unknown name. With `; D`, Schlick's two divide with `D`.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::specular::Specular;
+/// let v = fixshade::select_specular!("exact", Sp => Sp::eval(&Sp::prepare(Q16_16::from_int(2)), 1 << 29));
+/// assert_eq!(v, Some(1 << 28)); // 0.5² = 0.25 in Q2.30
+/// ```
+#[macro_export]
+macro_rules! select_specular {
+    ($name:expr, $Sp:ident => $body:expr) => {
+        $crate::for_each_specular!($crate::__fixshade_select_by_listed_name[$name, $Sp, $body])
+    };
+    ($name:expr, $Sp:ident => $body:expr ; $D:ty) => {
+        $crate::for_each_specular!($crate::__fixshade_select_by_listed_name[$name, $Sp, $body]; $D)
+    };
+}
+
+/// Picks the type listed with the name `$name`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fixshade_select_by_listed_name {
+    ([$name:expr, $X:ident, $body:expr] $(($listed:expr, $T:ty)),* $(,)?) => {{
+        let name: &str = $name;
+        $(
+            if name == $listed {
+                #[allow(dead_code)]
+                type $X = $T;
+                Some($body)
+            } else
+        )* {
+            None
+        }
+    }};
 }
 
 /// Picks the type whose `<T as $Trait>::NAME` equals `$name`.
@@ -333,7 +438,7 @@ macro_rules! __fixshade_first_names {
     };
 }
 
-/// Every span method's name, in [`for_each_span_method!`] order.
+/// Every span method's name, in [`for_each_span_method!`](crate::for_each_span_method) order.
 ///
 /// ```
 /// assert_eq!(fixshade::registry::SPAN_METHODS.len(), 15);
@@ -341,10 +446,18 @@ macro_rules! __fixshade_first_names {
 pub const SPAN_METHODS: &[&str] =
     for_each_span_method!(__fixshade_names_by_trait[crate::raster::span::SpanMethod]);
 
-/// Every divider's name, in [`for_each_divider!`] order.
+/// A line on what each span method does, in [`for_each_span_method!`](crate::for_each_span_method) order (for
+/// `fixshade list`).
+pub const SPAN_METHOD_LINES: &[&str] = __span_method_list!(__fixshade_lines[] crate::divide::Exact);
+
+/// A line on each specular model, in [`for_each_specular!`](crate::for_each_specular) order.
+pub const SPECULAR_LINES: &[&str] =
+    __specular_list!(__fixshade_specular_lines[] crate::divide::Exact);
+
+/// Every divider's name, in [`for_each_divider!`](crate::for_each_divider) order.
 pub const DIVIDERS: &[&str] = for_each_divider!(__fixshade_names_by_trait[crate::divide::Divide]);
 
-/// Every specular model's name, in [`for_each_specular!`] order (the same as
+/// Every specular model's name, in [`for_each_specular!`](crate::for_each_specular) order (the same as
 /// [`crate::specular::NAMES`]).
 ///
 /// ```
@@ -352,10 +465,10 @@ pub const DIVIDERS: &[&str] = for_each_divider!(__fixshade_names_by_trait[crate:
 /// ```
 pub const SPECULAR_MODELS: &[&str] = for_each_specular!(__fixshade_first_names);
 
-/// Every shading mode's name, in [`for_each_shading!`] order.
+/// Every shading mode's name, in [`for_each_shading!`](crate::for_each_shading) order.
 pub const SHADINGS: &[&str] = for_each_shading!(__fixshade_first_names);
 
-/// Every pixel format's name, in [`for_each_pixel_format!`] order.
+/// Every pixel format's name, in [`for_each_pixel_format!`](crate::for_each_pixel_format) order.
 pub const PIXEL_FORMATS: &[&str] =
     for_each_pixel_format!(__fixshade_names_by_trait[crate::target::PixelFormat]);
 
@@ -373,6 +486,8 @@ mod tests {
 
     #[test]
     fn names_are_distinct_and_selectable() {
+        assert_eq!(SPAN_METHOD_LINES.len(), SPAN_METHODS.len());
+        assert_eq!(SPECULAR_LINES.len(), SPECULAR_MODELS.len());
         for list in [
             SPAN_METHODS,
             DIVIDERS,
@@ -393,6 +508,10 @@ mod tests {
             assert_eq!(select_divider!(name, D => D::NAME), Some(*name));
         }
         assert_eq!(select_divider!("shift-add-17", D => D::NAME), None);
+        for name in SPECULAR_MODELS {
+            assert!(select_specular!(name, Sp => core::mem::size_of::<Sp>()).is_some());
+        }
+        assert!(select_specular!("phong", Sp => ()).is_none());
     }
 
     #[test]

@@ -41,10 +41,10 @@ use fixshade::raster::span::{Classic, Gradient, SpanMethod};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::scene::{Scene, ShadingMode};
 use fixshade::target::{Framebuffer, Rgb565Le};
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::desc::MeshSource;
-use fixshade_sim::pipeline::load;
-use fixshade_sim::scene_file::builtin_scene;
+use fixshade_sim::scene::builtin;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::desc::MeshSource;
+use fixshade_sim::scene::load::load;
 
 /// One timed frame: vertex stage + rasterization into `fb`.
 type FrameFn = fn(&Scene<'_>, &mut [XfVertex], &mut Framebuffer<'_, Rgb565Le>) -> Stats;
@@ -180,7 +180,7 @@ fn main() {
             {
                 continue;
             }
-            let mut d = builtin_scene("bench-sphere").expect("built-in scene bench-sphere");
+            let mut d = builtin::scene("bench-sphere").expect("built-in scene bench-sphere");
             d.width = w;
             d.height = h;
             d.objects[0].mesh = MeshSource::Sphere { lon, lat };

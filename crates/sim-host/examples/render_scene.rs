@@ -10,8 +10,8 @@
 use std::path::{Path, PathBuf};
 
 use fixshade::prelude::*;
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::pipeline::load_arg;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::load::load_arg;
 use fixshade_sim::with_span_method;
 
 fn run() -> Result<(), String> {

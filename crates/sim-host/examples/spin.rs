@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use fixshade::prelude::*;
-use fixshade_sim::convert::FixedMesh;
-use fixshade_sim::mesh::teapot;
+use fixshade_sim::scene::convert::FixedMesh;
+use fixshade_sim::scene::mesh::teapot;
 
 const W: u32 = 200;
 const H: u32 = 160;
