@@ -16,22 +16,13 @@ use fixshade::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
 
 use super::dispatch::{Draw, Lighting};
 use super::host::{with_selection, HostSpecular};
+use super::output::Render;
 use crate::image::Image;
 use crate::scene::convert::{background8, background_channels, core_scene, FixedMesh};
-use crate::scene::desc::{DivideName, FormatName, SceneDesc, ShadingName};
+use crate::scene::desc::{DivideName, FormatName, SceneDesc, ShadingName, SpecularName};
 use crate::scene::effects::{forced_specular, has_specular};
 use crate::scene::load::LoadedScene;
-
-/// The result of a fixed-point render.
-#[derive(Clone, Debug)]
-pub struct Render {
-    /// The image (with coverage).
-    pub image: Image,
-    /// The framebuffer bytes in memory order.
-    pub bytes: Vec<u8>,
-    /// Draw statistics.
-    pub stats: Stats,
-}
+use fixshade::scene::Scene;
 
 /// True if the frame runs the specular term: some light and some material have a
 /// specular colour, or `+specular` is forced, or the divider is approximate.
@@ -44,8 +35,53 @@ pub fn specular_pipeline(d: &SceneDesc) -> bool {
     has_specular(d) || forced_specular(d) || d.divide != DivideName::EXACT
 }
 
+/// The frames a scene description asks for, chosen once ([`super::dispatch`]) with
+/// the divider and specular model it selects: prepares (vertex stage) and draws
+/// frames of a scene in `P` with coverage ([`Covered`]). `Sp` is the frames'
+/// lighting: [`HostSpecular`], or [`NoSpecular`] where [`specular_pipeline`] is
+/// false and the format is the default.
+pub struct Pipeline<P: PixelFormat, Sp: Lighting> {
+    draw: Draw<Covered<P>, Sp>,
+    divide: DivideName,
+    specular: SpecularName,
+}
+
+impl<P: PixelFormat, Sp: Lighting> Pipeline<P, Sp> {
+    /// The pipeline of `d` (not ray casting).
+    pub fn new(d: &SceneDesc) -> Result<Self, String> {
+        Ok(Pipeline {
+            draw: Sp::choose(d)?,
+            divide: d.divide,
+            specular: d.specular,
+        })
+    }
+
+    /// The vertex stage of `scene` for a `width` x `height` frame.
+    pub fn prepare<'s, 'a, 'c>(
+        &self,
+        scene: &'s Scene<'a>,
+        width: u32,
+        height: u32,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Frame<'s, 'a, 'c, Covered<P>, Sp>, String> {
+        with_selection(self.divide, self.specular, || {
+            Frame::<Covered<P>>::prepare_with::<Sp>(scene, width, height, cache)
+        })
+        .map_err(|e| e.to_string())
+    }
+
+    /// Draws a prepared frame into a strip (of every row, or of some).
+    pub fn draw(
+        &self,
+        frame: &Frame<'_, '_, '_, Covered<P>, Sp>,
+        strip: &mut Strip<'_, Covered<P>>,
+    ) -> Result<Stats, String> {
+        with_selection(self.divide, self.specular, || self.draw.run(frame, strip))
+    }
+}
+
 /// How the host draws frames of a pixel format.
-trait Drawn: PixelFormat {
+pub trait Drawn: PixelFormat {
     /// The format the pipeline draws in: the format itself, or for [`Rgb565Be`]
     /// [`Rgb565Le`], whose bytes are then swapped in pairs (`Rgb565Be::pack` is the
     /// byte swap of `Rgb565Le::pack`; the test `rgb565be_is_rgb565le_swapped` checks
@@ -98,15 +134,13 @@ macro_rules! pick_format {
             if d.format.index() == at {
                 type $P = <$F as Drawn>::As;
                 let $swap = <$F as Drawn>::SWAP;
-                return with_selection(d.divide, d.specular, || {
-                    if specular_pipeline(d) {
-                        type $Sp = HostSpecular;
-                        $body
-                    } else {
-                        type $Sp = <$F as Drawn>::Diffuse;
-                        $body
-                    }
-                });
+                return if specular_pipeline(d) {
+                    type $Sp = HostSpecular;
+                    $body
+                } else {
+                    type $Sp = <$F as Drawn>::Diffuse;
+                    $body
+                };
             }
             at += 1;
         )*
@@ -117,8 +151,7 @@ macro_rules! pick_format {
 /// Runs `$body` (and returns its value) with `$P` bound to the format the scene's
 /// pixel format is drawn in ([`Drawn`]), `$swap` to whether its bytes are swapped,
 /// and `$Sp` to its lighting type ([`HostSpecular`], or without a specular term
-/// [`Drawn::Diffuse`]), the scene's divider and specular model selected
-/// ([`with_selection`]).
+/// [`Drawn::Diffuse`]).
 macro_rules! with_types {
     ($d:expr, $P:ident, $Sp:ident, $swap:ident => $body:expr) => {
         fixshade::for_each_pixel_format!(pick_format[$d, $P, $Sp, $swap, $body])
@@ -204,12 +237,11 @@ fn render_as<P: PixelFormat, Sp: Lighting>(
 ) -> Result<Render, String> {
     let d = &ls.desc;
     let scene = core_scene(d, &ls.fixed)?;
-    let draw: Draw<Covered<P>, Sp> = Sp::choose(d)?;
+    let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
-    let frame = Frame::<Covered<P>>::prepare_with::<Sp>(&scene, d.width, d.height, &mut cache)
-        .map_err(|e| e.to_string())?;
+    let frame = pipeline.prepare(&scene, d.width, d.height, &mut cache)?;
     let (color, stats) = bands::<P>(d, strip_rows.unwrap_or(d.height), |strip| {
-        draw.run(&frame, strip)
+        pipeline.draw(&frame, strip)
     })?;
     let bg8 = background8(d);
     Ok(Render {
@@ -244,7 +276,7 @@ fn time_as<P: PixelFormat, Sp: Lighting>(
     let scene = core_scene(d, &ls.fixed)?;
     let (w, h) = (d.width, d.height);
     let n = w as usize * h as usize;
-    let draw: Draw<Covered<P>, Sp> = Sp::choose(d)?;
+    let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
     let mut color = vec![CoveredPixel::<P::Raw>::default(); n];
     let mut depth = vec![0xFFFFu16; n];
@@ -252,8 +284,7 @@ fn time_as<P: PixelFormat, Sp: Lighting>(
     for _ in 0..runs.max(1) {
         depth.fill(0xFFFF);
         let t = Instant::now();
-        let frame = Frame::<Covered<P>>::prepare_with::<Sp>(&scene, w, h, &mut cache)
-            .map_err(|e| e.to_string())?;
+        let frame = pipeline.prepare(&scene, w, h, &mut cache)?;
         let mut fb = Strip::<Covered<P>>::new(
             &mut color,
             d.depth_test.then_some(&mut depth[..]),
@@ -263,7 +294,7 @@ fn time_as<P: PixelFormat, Sp: Lighting>(
             h,
         )
         .map_err(|e| e.to_string())?;
-        std::hint::black_box(draw.run(&frame, &mut fb)?);
+        std::hint::black_box(pipeline.draw(&frame, &mut fb)?);
         times.push(t.elapsed());
     }
     times.sort();
@@ -303,15 +334,13 @@ fn chunked_as<P: PixelFormat, Sp: Lighting>(
         .iter()
         .map(|m| core_scene(d, std::slice::from_ref(m)))
         .collect::<Result<Vec<_>, _>>()?;
-    let draw: Draw<Covered<P>, Sp> = Sp::choose(d)?;
+    let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); max_vertices];
     let (color, _) = bands::<P>(d, rows, |strip| {
         let mut stats = Stats::default();
         for scene in &scenes {
-            let frame =
-                Frame::<Covered<P>>::prepare_with::<Sp>(scene, d.width, d.height, &mut cache)
-                    .map_err(|e| e.to_string())?;
-            stats += draw.run(&frame, strip)?;
+            let frame = pipeline.prepare(scene, d.width, d.height, &mut cache)?;
+            stats += pipeline.draw(&frame, strip)?;
         }
         Ok(stats)
     })?;

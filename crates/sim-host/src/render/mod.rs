@@ -35,8 +35,10 @@ pub mod bake;
 pub mod dispatch;
 pub mod frame;
 pub mod host;
+pub mod output;
 pub mod raycast;
 pub mod reference;
 
-pub use frame::{render, render_chunked, specular_pipeline, time_frame, Render};
+pub use frame::{render, render_chunked, specular_pipeline, time_frame, Drawn, Pipeline};
+pub use output::Render;
 pub use reference::{matching_reference, reference};

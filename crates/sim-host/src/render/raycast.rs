@@ -9,7 +9,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::frame::Render;
+use super::output::Render;
 use crate::image::Image;
 use crate::scene::convert::{
     background8, background_channels, core_scene, material, q16, threshold_q8,
