@@ -414,14 +414,7 @@ pub fn root() -> PathBuf {
 pub fn qemu() -> Result<(), String> {
     let ci = std::env::var("CI").is_ok_and(|v| v == "true");
     let root = root();
-    let stale = crate::raybake::sync(&root, false)?;
-    if !stale.is_empty() {
-        return Err(format!(
-            "stale baked ray scenes (regenerate with `cargo xtask bake-ray`): {}",
-            stale.join(", ")
-        ));
-    }
-    crate::scenes::check_baked(&root)?;
+    crate::bake::run(&root)?;
     let status = Command::new("rustup")
         .args([
             "target",
@@ -664,7 +657,7 @@ fn ray_table(frames: usize, rows: &[String]) -> String {
         "\n## Ray caster\n\n\
          `fixshade render --shading raycast` of the built-in scenes at a small size, with their\n\
          own sampling (segment L, threshold K in Q8 8-bit levels; the exact Blinn specular),\n\
-         baked by `cargo xtask bake-ray`; {frames} frames, each identical to the host's bytes.\n\
+         baked by `cargo xtask bake`; {frames} frames, each identical to the host's bytes.\n\
          `prepare` is `Caster::prepare`, `sampling` the rows (`fill_row`, every ray cast in it).\n\n\
          | board | scene | width | height | L | K (Q8) | evaluations | prepare | sampling | per evaluation |\n\
          | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"

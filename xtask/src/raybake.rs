@@ -1,9 +1,7 @@
 //! Ray-cast scenes baked for the Cortex-M4 image (`boards/baked/ray/`): the scene as
 //! `fixshade bake` writes it, plus the ray caster's analytic spheres and planes and
-//! the scene's sampling (segment L, threshold K in Q8, shadows). `cargo xtask
-//! bake-ray` writes them; `cargo xtask qemu` fails when they are stale.
-
-use std::path::Path;
+//! the scene's sampling (segment L, threshold K in Q8, shadows). `cargo xtask bake`
+//! writes them.
 
 use fixshade::fixed::Q16_16;
 use fixshade_sim::scene::convert::q16;
@@ -38,12 +36,12 @@ fn material(m: &MaterialDesc) -> String {
 
 /// The source of one baked ray scene.
 pub fn bake_ray(scene: &str) -> Result<String, String> {
-    let command = format!("cargo xtask bake-ray ({scene})");
+    let command = format!("cargo xtask bake ({scene})");
     let mut s = fixshade_sim::render::bake::bake(scene, None, &command)?.source;
     let ls = load::load_arg(scene)?;
     let r = &ls.desc.raycast;
     s.push_str(&format!(
-        "\n// The ray caster's part of the scene (added by `cargo xtask bake-ray`).\n\n\
+        "\n// The ray caster's part of the scene (added by `cargo xtask bake`).\n\n\
          use fixshade::raycast::{{Plane, Sphere}};\n\n\
          /// Segment length L of the scene's sampling.\n\
          pub const SEGMENT: u32 = {};\n\
@@ -81,21 +79,4 @@ pub fn bake_ray(scene: &str) -> Result<String, String> {
     }
     s.push_str("];\n");
     Ok(s)
-}
-
-/// Writes (`write`) or checks every baked ray scene; returns the stale files.
-pub fn sync(root: &Path, write: bool) -> Result<Vec<String>, String> {
-    let dir = root.join("boards/baked/ray");
-    let mut stale = Vec::new();
-    for (file, scene) in RAY_SCENES {
-        let src = bake_ray(scene)?;
-        let path = dir.join(file);
-        if write {
-            std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-            std::fs::write(&path, &src).map_err(|e| format!("{}: {e}", path.display()))?;
-        } else if std::fs::read_to_string(&path).unwrap_or_default() != src {
-            stale.push(path.display().to_string());
-        }
-    }
-    Ok(stale)
 }

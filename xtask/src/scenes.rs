@@ -1,5 +1,5 @@
 //! The whole-pipeline hard cases (tests/catalogue/scenes.toml) on QEMU: `cargo xtask
-//! bake-scenes` writes them to boards/baked/scenes/ (`fixshade_tests::scenes`), and
+//! bake` writes them to boards/baked/scenes/ (`fixshade_tests::scenes`), and
 //! `cargo xtask qemu` runs the scene images (boards/*/src/bin/scenes.rs) and compares
 //! every frame they write with the host render of the same case, span method,
 //! shading and strip/chunk layout: [`render::render`] for whole frames, and for the
@@ -18,31 +18,6 @@ use fixshade_sim::scene::convert::{core_scene, FixedMesh};
 use fixshade_sim::scene::desc::{FormatName, Named, ShadingName, SpanName};
 use fixshade_sim::scene::load::LoadedScene;
 use fixshade_tests::catalogue::scene_cases;
-
-/// `cargo xtask bake-scenes`.
-pub fn bake(root: &Path) -> Result<(), String> {
-    for p in fixshade_tests::scenes::write(&baked_dir(root))? {
-        eprintln!("xtask: wrote {p}");
-    }
-    Ok(())
-}
-
-fn baked_dir(root: &Path) -> std::path::PathBuf {
-    root.join("boards/baked/scenes")
-}
-
-/// Fails when boards/baked/scenes/ is not what `cargo xtask bake-scenes` writes.
-pub fn check_baked(root: &Path) -> Result<(), String> {
-    let stale = fixshade_tests::scenes::stale(&baked_dir(root))?;
-    if stale.is_empty() {
-        Ok(())
-    } else {
-        Err(format!(
-            "stale baked scene cases (regenerate with `cargo xtask bake-scenes`): {}",
-            stale.join(", ")
-        ))
-    }
-}
 
 /// The frame a board that keeps neither the frame nor a whole mesh in RAM draws:
 /// strip by strip (`rows` rows each), and per strip object by object and chunk by
@@ -413,7 +388,7 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
     let mut md = format!(
         "\n## Whole-pipeline hard cases\n\n\
          Every case of tests/catalogue/scenes.toml (baked into boards/baked/scenes/ by\n\
-         `cargo xtask bake-scenes`) rendered by the scene images with every span method in\n\
+         `cargo xtask bake`) rendered by the scene images with every span method in\n\
          flat and Gouraud shading (and on the Cortex-M4 once more in quadratic, Phong,\n\
          Phong even/odd and adaptive shading, whose fills ignore the span method; and for\n\
          the cases with a perspective camera in Gouraud shading with perspective-correct\n\

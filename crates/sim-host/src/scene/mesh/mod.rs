@@ -5,8 +5,8 @@
 //! outside (`(b - a) x (c - a)` points outward) and one unit normal per vertex.
 //!
 //! ```
-//! use fixshade_sim::desc::MeshSource;
-//! use fixshade_sim::mesh;
+//! use fixshade_sim::scene::desc::MeshSource;
+//! use fixshade_sim::scene::mesh;
 //!
 //! let ball = mesh::build(&MeshSource::Sphere { lon: 32, lat: 20 }, ".".as_ref()).unwrap();
 //! assert_eq!(ball.triangles.len(), 1216);
@@ -15,22 +15,25 @@
 //! assert_eq!(err.to_string(), "<builtin sphere>: `lon` must be in 3..=1024, found 2");
 //! ```
 
-use std::fmt;
 use std::ops::RangeInclusive;
 use std::path::Path;
 
 use crate::scene::desc::{MeshData, MeshSource};
 
+mod error;
 mod obj;
 mod robot;
 mod sphere;
 mod teapot;
 mod teapot_data;
+pub(crate) mod vector;
 
-pub use obj::{load_obj, parse_obj};
+pub use error::MeshError;
+pub use obj::{load_obj, parse_obj, MAX_OBJ_VERTICES};
 pub use robot::robot;
 pub use sphere::sphere;
 pub use teapot::teapot;
+pub use vector::area_weighted_normals;
 
 /// Valid longitude segment counts of the built-in sphere.
 pub const SPHERE_LON_RANGE: RangeInclusive<u32> = 3..=1024;
@@ -38,43 +41,6 @@ pub const SPHERE_LON_RANGE: RangeInclusive<u32> = 3..=1024;
 pub const SPHERE_LAT_RANGE: RangeInclusive<u32> = 2..=1024;
 /// Valid subdivision levels of the built-in teapot.
 pub const TEAPOT_LEVEL_RANGE: RangeInclusive<u32> = 1..=64;
-/// Most vertices an OBJ file may have: the core indexes vertices with `u16`.
-pub const MAX_OBJ_VERTICES: usize = u16::MAX as usize;
-
-/// Why a mesh could not be built: which file (or built-in model), which line if
-/// one applies, and what was wrong.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeshError {
-    /// File name as given, or `<builtin sphere>` / `<builtin teapot>` for
-    /// built-in models.
-    pub file: String,
-    /// 1-based line number, when the error belongs to one line.
-    pub line: Option<usize>,
-    /// What was expected or found, without the file and line.
-    pub message: String,
-}
-
-impl MeshError {
-    fn new(file: &str, line: Option<usize>, message: impl Into<String>) -> Self {
-        MeshError {
-            file: file.to_owned(),
-            line,
-            message: message.into(),
-        }
-    }
-}
-
-impl fmt::Display for MeshError {
-    /// `file:line: message`, or `file: message` when no line applies.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(line) => write!(f, "{}:{}: {}", self.file, line, self.message),
-            None => write!(f, "{}: {}", self.file, self.message),
-        }
-    }
-}
-
-impl std::error::Error for MeshError {}
 
 /// Builds the mesh a [`MeshSource`] names.
 ///
@@ -118,104 +84,11 @@ fn check_range(
     }
 }
 
-/// Area-weighted vertex normals: each vertex gets the normalised sum of the
-/// unnormalised face normals `(b - a) x (c - a)` of the triangles that use it, so
-/// large triangles count more than small ones. A vertex whose sum is zero (unused,
-/// or only in degenerate triangles) gets `(0, 1, 0)`.
-///
-/// # Panics
-///
-/// If a triangle indexes past the end of `positions`.
-pub fn area_weighted_normals(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
-    let mut sums = vec![[0.0; 3]; positions.len()];
-    for tri in triangles {
-        let n = face_normal(positions, tri);
-        for &i in tri {
-            sums[i as usize] = add(sums[i as usize], n);
-        }
-    }
-    sums.into_iter()
-        .map(|s| normalize(s).unwrap_or([0.0, 1.0, 0.0]))
-        .collect()
-}
-
-// Small f64 vector helpers shared by the submodules.
-
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// `a / |a|`, or `None` if `a` is zero.
-fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
-    let len = dot(a, a).sqrt();
-    if len > 0.0 && len.is_finite() {
-        return Some(scale(a, 1.0 / len));
-    }
-    // The squared length overflowed or underflowed (huge or tiny finite
-    // components): divide by the largest component first. Infinite or NaN
-    // components have no direction.
-    if !a.iter().all(|c| c.is_finite()) {
-        return None;
-    }
-    let m = a.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-    if m == 0.0 {
-        return None;
-    }
-    let b = a.map(|c| c / m);
-    let len = dot(b, b).sqrt();
-    Some(b.map(|c| c / len))
-}
-
-/// Unnormalised normal `(b - a) x (c - a)` of a triangle: twice its area in length.
-fn face_normal(positions: &[[f64; 3]], tri: &[u32; 3]) -> [f64; 3] {
-    let [a, b, c] = tri.map(|i| positions[i as usize]);
-    cross(sub(b, a), sub(c, a))
-}
-
-/// Moves and scales `positions` in place so that their bounding box is centred at
-/// the origin and its largest half-extent is 1.
-fn fit_unit_box(positions: &mut [[f64; 3]]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in positions.iter() {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let centre = scale(add(lo, hi), 0.5);
-    let half = (0..3).map(|k| (hi[k] - lo[k]) * 0.5).fold(0.0, f64::max);
-    if half > 0.0 {
-        for p in positions.iter_mut() {
-            *p = scale(sub(*p, centre), 1.0 / half);
-        }
-    }
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use std::collections::HashMap;
 
+    use super::vector::{cross, dot, fit_unit_box, sub};
     use super::*;
 
     /// Checks what every mesh must satisfy: matching lengths, indices in range,

@@ -6,8 +6,12 @@
 
 use std::path::Path;
 
-use super::{area_weighted_normals, MeshError, MAX_OBJ_VERTICES};
+use super::error::MeshError;
+use super::vector::area_weighted_normals;
 use crate::scene::desc::MeshData;
+
+/// Most vertices an OBJ file may have: the core indexes vertices with `u16`.
+pub const MAX_OBJ_VERTICES: usize = u16::MAX as usize;
 
 /// Reads and parses an OBJ file; see [`parse_obj`]. Errors name the file as
 /// `path` displays; a file that cannot be read gives an error without a line.
@@ -136,7 +140,7 @@ mod tests {
 
     use super::*;
     use crate::scene::mesh::tests::{assert_well_formed, edge_stats, signed_volume};
-    use crate::scene::mesh::{dot, face_normal};
+    use crate::scene::mesh::vector::{dot, face_normal};
 
     fn data_dir() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/obj")

@@ -6,7 +6,8 @@
 
 use std::f64::consts::PI;
 
-use super::{add, fit_unit_box, scale, sphere};
+use super::sphere::sphere;
+use super::vector::{add, fit_unit_box, scale};
 use crate::scene::desc::MeshData;
 
 /// Segments around each cylinder.
@@ -309,7 +310,7 @@ mod tests {
 
     use super::*;
     use crate::scene::mesh::tests::{assert_well_formed, edge_stats, signed_volume};
-    use crate::scene::mesh::{cross, dot, face_normal, normalize};
+    use crate::scene::mesh::vector::{cross, dot, face_normal, normalize};
 
     /// Triangles with vertices identified by position rather than index, so that a
     /// part's flat faces join up again.

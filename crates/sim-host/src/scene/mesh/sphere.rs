@@ -65,7 +65,7 @@ pub fn sphere(lon: u32, lat: u32) -> MeshData {
 mod tests {
     use super::*;
     use crate::scene::mesh::tests::{assert_well_formed, edge_stats, signed_volume, EdgeStats};
-    use crate::scene::mesh::{add, dot, face_normal, scale};
+    use crate::scene::mesh::vector::{add, dot, face_normal, scale};
 
     #[test]
     fn triangle_and_vertex_counts() {

@@ -9,7 +9,7 @@
 use std::collections::HashMap;
 
 use super::teapot_data::PATCHES;
-use super::{add, area_weighted_normals, dot, face_normal, fit_unit_box, scale, sub};
+use super::vector::{add, area_weighted_normals, dot, face_normal, fit_unit_box, scale, sub};
 use crate::scene::desc::MeshData;
 
 /// Positions that differ by at most this much in every coordinate (in the units
