@@ -6,28 +6,7 @@
 //! strip = frame, first-wins depth ties). See `fixshade_tests::hard`.
 
 use fixshade_tests::catalogue::{self, TRI_HOLDS};
-use fixshade_tests::hard::{bake_triangles, check_all, Case, Figures, Holds, BAKED_TRIANGLES};
-
-/// The firmware's copy of the triangle catalogue (`boards/baked/catalogue/`) is the
-/// catalogue: baked again here, any difference fails. `FIXSHADE_BLESS=1` rewrites it.
-#[test]
-fn baked_triangle_catalogue_is_current() {
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../boards")
-        .join(BAKED_TRIANGLES);
-    let want = bake_triangles(&catalogue::triangle_cases());
-    if std::env::var_os("FIXSHADE_BLESS").is_some() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, &want).unwrap();
-        return;
-    }
-    let have = std::fs::read_to_string(&path).unwrap_or_default();
-    assert!(
-        have == want,
-        "{} is stale: FIXSHADE_BLESS=1 cargo test -p fixshade-tests --test hard_cases baked",
-        path.display()
-    );
-}
+use fixshade_tests::hard::{check_all, Case, Figures, Holds};
 
 #[test]
 fn triangle_catalogue() {
