@@ -3,9 +3,8 @@
 //! the scene's sampling (segment L, threshold K in Q8, shadows). `cargo xtask bake`
 //! writes them.
 
-use fixshade::fixed::Q16_16;
-use fixshade_sim::scene::convert::q16;
-use fixshade_sim::scene::convert::threshold_q8;
+use fixshade_sim::render::bake;
+use fixshade_sim::scene::convert::{self, q16, threshold_q8};
 use fixshade_sim::scene::desc::MaterialDesc;
 use fixshade_sim::scene::load;
 
@@ -15,23 +14,12 @@ pub const RAY_SCENES: &[(&str, &str)] = &[
     ("sphere.rs", "sphere"),
 ];
 
-fn q(v: f64) -> String {
-    format!("q({})", Q16_16::to_bits(q16(v)))
-}
-
 fn v3(v: &[f64; 3]) -> String {
-    format!("[{}, {}, {}]", q(v[0]), q(v[1]), q(v[2]))
+    bake::v3(&v.map(q16))
 }
 
 fn material(m: &MaterialDesc) -> String {
-    format!(
-        "Material {{ emission: {}, ambient: {}, diffuse: {}, specular: {}, shininess: {} }}",
-        v3(&m.emission),
-        v3(&m.ambient),
-        v3(&m.diffuse),
-        v3(&m.specular),
-        q(m.shininess)
-    )
+    bake::material_src(&convert::material(m))
 }
 
 /// The source of one baked ray scene.
@@ -61,7 +49,7 @@ pub fn bake_ray(scene: &str) -> Result<String, String> {
         s.push_str(&format!(
             "    Sphere {{ centre: {}, radius: {}, material: {} }},\n",
             v3(&sp.centre),
-            q(sp.radius),
+            bake::q(q16(sp.radius)),
             material(&sp.material)
         ));
     }

@@ -101,11 +101,13 @@ pub struct Baked {
     pub summary: String,
 }
 
-fn q(v: Q16_16) -> String {
+/// A Q16.16 value as baked source (`q(bits)`).
+pub fn q(v: Q16_16) -> String {
     format!("q({})", v.to_bits())
 }
 
-fn v3(v: &[Q16_16; 3]) -> String {
+/// Three Q16.16 values as baked source.
+pub fn v3(v: &[Q16_16; 3]) -> String {
     format!("[{}, {}, {}]", q(v[0]), q(v[1]), q(v[2]))
 }
 
@@ -131,7 +133,8 @@ fn light_src(l: &Light) -> String {
     )
 }
 
-fn material_src(m: &Material) -> String {
+/// A material as baked source.
+pub fn material_src(m: &Material) -> String {
     format!(
         "Material {{ emission: {}, ambient: {}, diffuse: {}, specular: {}, shininess: {} }}",
         v3(&m.emission),
