@@ -4,8 +4,8 @@
 //! normal per vertex and only valid indices.
 #![no_main]
 
-use fixshade_sim::convert::{quantize_mesh, FixedMesh};
-use fixshade_sim::mesh::parse_obj;
+use fixshade_sim::scene::convert::{quantize_mesh, FixedMesh};
+use fixshade_sim::scene::mesh::parse_obj;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

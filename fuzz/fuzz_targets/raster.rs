@@ -38,7 +38,7 @@ use fixshade::raster::span::{DepthTest, NoDepth};
 use fixshade::raster::{draw_triangle, ScreenVertex, GUARD};
 use fixshade::shade::{Flat, Gouraud};
 use fixshade::target::{Gray8, PixelFormat, Rgb565Le, Rgb888};
-use fixshade_sim::desc::{Named, SpanName};
+use fixshade_sim::scene::desc::{Named, SpanName};
 use fixshade_sim::with_span_method;
 use fixshade_tests::hard::NormalLight;
 use fixshade_tests::{Count, Guarded, Rec, Winding};
@@ -145,7 +145,7 @@ fn coverage(c: &Case, v: &[ScreenVertex; 3], mid: &[[i32; 3]; 3]) {
         .iter()
         .map(|w| w.unsigned_abs() as u16)
         .collect();
-    if matches!(c.span, SpanName::Sierpinski) {
+    if matches!(c.span, SpanName::named("sierpinski")) {
         assert!(got.iter().all(|p| *p <= 1), "a pixel written twice");
     } else {
         assert_eq!(got, want, "coverage differs from the exact model");

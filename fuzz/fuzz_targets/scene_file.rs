@@ -6,9 +6,9 @@
 
 use fixshade::render::{Frame, XfVertex};
 use fixshade::target::{Rgb888, Strip};
-use fixshade_sim::convert::{core_scene, quantize_scene, FixedMesh};
-use fixshade_sim::desc::MeshData;
-use fixshade_sim::scene_file::parse_scene;
+use fixshade_sim::scene::convert::{core_scene, quantize_scene, FixedMesh};
+use fixshade_sim::scene::desc::MeshData;
+use fixshade_sim::scene::file::parse_scene;
 use fixshade_sim::with_span_method;
 use libfuzzer_sys::fuzz_target;
 

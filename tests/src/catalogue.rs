@@ -111,10 +111,10 @@ impl SceneCase {
     /// The case as the renderer takes it: its scene file loaded, and object 0's
     /// mesh replaced by the explicit `positions`, `normals` and `triangles` when the
     /// case gives them.
-    pub fn load(&self) -> Result<fixshade_sim::pipeline::LoadedScene, String> {
-        use fixshade_sim::convert::{quantize_mesh, FixedMesh};
-        use fixshade_sim::desc::MeshData;
-        use fixshade_sim::pipeline::{load, read_scene};
+    pub fn load(&self) -> Result<fixshade_sim::scene::load::LoadedScene, String> {
+        use fixshade_sim::scene::convert::{quantize_mesh, FixedMesh};
+        use fixshade_sim::scene::desc::MeshData;
+        use fixshade_sim::scene::load::{load, read_scene};
         let path = path(&self.scene);
         let (desc, dir) = read_scene(&path.display().to_string())?;
         let mut ls = load(&self.name, &desc, &dir).map_err(|e| format!("{}: {e}", self.name))?;

@@ -19,8 +19,10 @@ pub mod scenes;
 
 use fixshade::raster::ScreenVertex;
 use fixshade::target::{PixelFormat, Target};
-use fixshade_sim::desc::{MeshData, SceneDesc};
-use fixshade_sim::reference::{mat_mul, mat_vec, model_matrix, projection_matrix, view_matrix};
+use fixshade_sim::render::reference::{
+    mat_mul, mat_vec, model_matrix, projection_matrix, view_matrix,
+};
+use fixshade_sim::scene::desc::{MeshData, SceneDesc};
 
 /// True in unoptimised builds: tests scale their iteration counts with [`scaled`].
 pub const DEBUG: bool = cfg!(debug_assertions);

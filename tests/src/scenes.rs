@@ -1,16 +1,15 @@
 //! The whole-pipeline hard cases (`tests/catalogue/scenes.toml`) baked for the QEMU
 //! firmware (`boards/baked/scenes/`): every case loaded as [`SceneCase::load`] gives
-//! it to the renderer and baked by `fixshade bake` ([`fixshade_sim::bake`]) twice,
+//! it to the renderer and baked by `fixshade bake` ([`fixshade_sim::render::bake`]) twice,
 //! whole meshes (`full/`, the Cortex-M4 image) and in chunks of at most [`CHUNK`]
 //! vertices (`chunk/`, the Cortex-M0 image), plus an index per layout (`full.rs`,
-//! `chunk.rs`) with the table of cases the firmware runs. `cargo xtask bake-scenes`
-//! writes them; `tests/tests/baked.rs` and `cargo xtask qemu` fail when they are
-//! stale.
+//! `chunk.rs`) with the table of cases the firmware runs. `cargo xtask bake`
+//! writes them (they are generated, not committed; `cargo xtask qemu` bakes first).
 
 use std::fmt::Write as _;
 
 use crate::catalogue::{scene_cases, SceneCase};
-use fixshade_sim::bake::bake_loaded;
+use fixshade_sim::render::bake::bake_loaded;
 
 /// The chunks' vertex limit of the Cortex-M0 layout (its vertex cache).
 pub const CHUNK: usize = 64;
@@ -25,7 +24,7 @@ pub fn module_name(case: &str) -> String {
 }
 
 /// The command that regenerates the files, named in their headers.
-const COMMAND: &str = "cargo xtask bake-scenes";
+const COMMAND: &str = "cargo xtask bake";
 
 /// Every file of `boards/baked/scenes/`: (path relative to it, source).
 pub fn bake_all() -> Result<Vec<(String, String)>, String> {
@@ -96,68 +95,4 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
         files.push((format!("{layout}.rs"), index));
     }
     Ok(files)
-}
-
-/// Every `.rs` file under `dir` (one level of subdirectories), relative to it.
-fn existing(dir: &std::path::Path) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut walk = |sub: &str| {
-        let Ok(rd) = std::fs::read_dir(dir.join(sub)) else {
-            return;
-        };
-        for e in rd.flatten() {
-            let name = e.file_name().to_string_lossy().into_owned();
-            if name.ends_with(".rs") {
-                out.push(if sub.is_empty() {
-                    name
-                } else {
-                    format!("{sub}/{name}")
-                });
-            }
-        }
-    };
-    walk("");
-    for (layout, _) in LAYOUTS {
-        walk(layout);
-    }
-    out.sort();
-    out
-}
-
-/// The files under `dir` (`boards/baked/scenes`) that differ from a fresh bake,
-/// are missing, or belong to no case.
-pub fn stale(dir: &std::path::Path) -> Result<Vec<String>, String> {
-    let files = bake_all()?;
-    let mut stale: Vec<String> = files
-        .iter()
-        .filter(|(rel, src)| std::fs::read_to_string(dir.join(rel)).ok().as_ref() != Some(src))
-        .map(|(rel, _)| dir.join(rel).display().to_string())
-        .collect();
-    for rel in existing(dir) {
-        if !files.iter().any(|(r, _)| *r == rel) {
-            stale.push(format!("{} (no such case)", dir.join(rel).display()));
-        }
-    }
-    Ok(stale)
-}
-
-/// Writes every file of [`bake_all`] under `dir`, removing files of cases no longer
-/// in the catalogue; returns the paths written.
-pub fn write(dir: &std::path::Path) -> Result<Vec<String>, String> {
-    let files = bake_all()?;
-    for rel in existing(dir) {
-        if !files.iter().any(|(r, _)| *r == rel) {
-            std::fs::remove_file(dir.join(&rel)).map_err(|e| format!("{rel}: {e}"))?;
-        }
-    }
-    let mut written = Vec::new();
-    for (rel, src) in &files {
-        let p = dir.join(rel);
-        if let Some(parent) = p.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-        }
-        std::fs::write(&p, src).map_err(|e| format!("{}: {e}", p.display()))?;
-        written.push(p.display().to_string());
-    }
-    Ok(written)
 }

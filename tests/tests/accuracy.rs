@@ -16,9 +16,10 @@ use fixshade::raster::span::{Classic, Gradient, NoDepth, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::Gouraud;
 use fixshade::target::Strip;
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::SpanName;
-use fixshade_sim::pipeline::{self, load_arg};
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::SpanName;
+use fixshade_sim::scene::load::load_arg;
 use fixshade_tests::*;
 
 const WIDTH: usize = 4096;
@@ -511,10 +512,10 @@ fn accuracy_checker_detects_errors() {
 fn figures_match_the_reference() {
     for name in FIGURES {
         let mut ls = load_arg(name).unwrap();
-        let reference = pipeline::reference(&ls, false);
-        for span in [SpanName::Gradient, SpanName::Classic] {
+        let reference = render::reference(&ls, false);
+        for span in [SpanName::GRADIENT, SpanName::CLASSIC] {
             ls.desc.span = span;
-            let r = pipeline::render(&ls, None).unwrap();
+            let r = render::render(&ls, None).unwrap();
             let c = compare(&reference, &r.image).unwrap();
             println!(
                 "{name} {span:?}: NMSE {:.3e}, max channel error {}, coverage mismatch {}, {} covered pixels",

@@ -18,8 +18,8 @@ use fixshade::render::{BandMemory, Frame, Stats, XfVertex};
 use fixshade::scene::{Scene, ShadingMode};
 use fixshade::shade::Gouraud;
 use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le, Rgb888, Strip};
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::pipeline::{load_arg, LoadedScene};
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::load::{load_arg, LoadedScene};
 use fixshade_tests::catalogue::{scene_cases, triangle_cases};
 use fixshade_tests::FIGURES;
 
@@ -122,7 +122,7 @@ fn figures_in_bands_equal_whole_frame() {
     for name in FIGURES {
         let mut ls = load_arg(name).unwrap();
         check_scene::<Rgb565Le>(name, &ls);
-        ls.desc.shading = fixshade_sim::desc::ShadingName::Flat;
+        ls.desc.shading = fixshade_sim::scene::desc::ShadingName::FLAT;
         check_scene::<Rgb888>(&format!("{name} flat"), &ls);
     }
     let mut ls = load_arg("bench-sphere").unwrap();

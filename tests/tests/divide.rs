@@ -9,8 +9,9 @@ use fixshade::raster::span::{Classic, Gradient, NoDepth, SpanMethod, WithDivide}
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::Gouraud;
 use fixshade::target::{Framebuffer, Rgb888};
-use fixshade_sim::desc::{DivideName, Named};
-use fixshade_sim::pipeline;
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::{DivideName, Named};
+use fixshade_sim::scene::load;
 
 struct Rng(u64);
 impl Rng {
@@ -190,15 +191,15 @@ fn squared_error(a: &[[u8; 3]], b: &[[u8; 3]]) -> u64 {
 /// grows.
 #[test]
 fn pipeline_dividers_on_the_sphere() {
-    let mut ls = pipeline::load_arg("sphere").unwrap();
-    ls.desc.span = fixshade_sim::desc::SpanName::Classic;
-    let base = pipeline::render(&ls, None).unwrap();
-    ls.desc.divide = DivideName::Exact;
-    assert_eq!(pipeline::render(&ls, None).unwrap().bytes, base.bytes);
+    let mut ls = load::load_arg("sphere").unwrap();
+    ls.desc.span = fixshade_sim::scene::desc::SpanName::CLASSIC;
+    let base = render::render(&ls, None).unwrap();
+    ls.desc.divide = DivideName::EXACT;
+    assert_eq!(render::render(&ls, None).unwrap().bytes, base.bytes);
     let mut errs = Vec::new();
     for &(d, name) in DivideName::ALL {
         ls.desc.divide = d;
-        let r = pipeline::render(&ls, None).unwrap();
+        let r = render::render(&ls, None).unwrap();
         assert_eq!(r.image.covered, base.image.covered, "{name}: coverage");
         assert_eq!(r.stats, base.stats, "{name}: draw statistics");
         let sq = squared_error(&r.image.pixels, &base.image.pixels);
@@ -217,15 +218,15 @@ fn pipeline_dividers_on_the_sphere() {
 /// divider changes pixels and the error shrinks as N grows.
 #[test]
 fn per_pixel_shadings_take_the_divider() {
-    use fixshade_sim::desc::ShadingName;
+    use fixshade_sim::scene::desc::ShadingName;
     for shading in [
-        ShadingName::Quadratic,
-        ShadingName::Phong,
-        ShadingName::Adaptive,
+        ShadingName::QUADRATIC,
+        ShadingName::PHONG,
+        ShadingName::ADAPTIVE,
     ] {
-        let mut ls = pipeline::load_arg("sphere").unwrap();
+        let mut ls = load::load_arg("sphere").unwrap();
         ls.desc.shading = shading;
-        let base = pipeline::render(&ls, None).unwrap();
+        let base = render::render(&ls, None).unwrap();
         let mut errs = Vec::new();
         for name in [
             "exact",
@@ -235,7 +236,7 @@ fn per_pixel_shadings_take_the_divider() {
             "shift-add-16",
         ] {
             ls.desc.divide = DivideName::parse(name).unwrap();
-            let r = pipeline::render(&ls, None).unwrap();
+            let r = render::render(&ls, None).unwrap();
             assert_eq!(
                 r.image.covered, base.image.covered,
                 "{shading:?} {name}: coverage"

@@ -1,4 +1,4 @@
-//! Effects (`fixshade_sim::effects`): every derivation rule has a scene that
+//! Effects (`fixshade_sim::scene::effects`): every derivation rule has a scene that
 //! triggers it and the derived frame keeps the pixels of the frame as written;
 //! forced settings override the rules; adaptive shading stays within 1e-4 of full
 //! Phong on the three figures and reports the triangles that paid; its per-triangle
@@ -9,15 +9,18 @@ use fixshade::effects::NoSpecular;
 use fixshade::fixed::Q16_16;
 use fixshade::light::{Light, LightKind, LightingSetup, Material, Specular};
 use fixshade::math::{normalize_to_q30, Mat4};
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::ShadingName;
-use fixshade_sim::effects::{self, Effects, Lighting, Overrides, Source};
-use fixshade_sim::pipeline::{self, LoadedScene};
-use fixshade_sim::scene_file::parse_scene;
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::ShadingName;
+use fixshade_sim::scene::desc::{Overrides, Source};
+use fixshade_sim::scene::effects::{self, Effects, Lighting};
+use fixshade_sim::scene::file::parse_scene;
+use fixshade_sim::scene::load;
+use fixshade_sim::scene::load::LoadedScene;
 
 fn scene(text: &str) -> LoadedScene {
     let d = parse_scene(text, "test.toml").unwrap();
-    pipeline::load("test", &d, std::path::Path::new(".")).unwrap()
+    load::load("test", &d, std::path::Path::new(".")).unwrap()
 }
 
 const CAMERA: &str = "[camera]\neye = [0, 0, 4]\n";
@@ -34,14 +37,14 @@ fn derive(ls: &LoadedScene) -> Effects {
 /// on (the exact specular term forced, depth test on).
 fn same_pixels_as_written(ls: &LoadedScene) {
     let e = derive(ls);
-    let derived = pipeline::render(&effects::apply(ls, &e), None).unwrap();
+    let derived = render::render(&effects::apply(ls, &e), None).unwrap();
     let mut full = ls.clone();
     full.desc.effects = Overrides::parse("+specular", Source::CommandLine).unwrap();
     full.desc.depth_test = true;
     if full.desc.lights.is_empty() {
         full.desc.effects = Overrides::default();
     }
-    let written = pipeline::render(&full, None).unwrap();
+    let written = render::render(&full, None).unwrap();
     assert_eq!(derived.bytes, written.bytes, "{}", ls.name);
 }
 
@@ -53,7 +56,7 @@ fn no_lights_is_unlit_and_flat() {
     let e = derive(&ls);
     assert_eq!(e.lighting.value, Lighting::Unlit);
     assert!(e.lighting.why.contains("no lights"), "{}", e.lighting.why);
-    assert_eq!(e.shading.value, ShadingName::Flat);
+    assert_eq!(e.shading.value, ShadingName::FLAT);
     assert!(e.shading.why.contains("unlit"));
     same_pixels_as_written(&ls);
 }
@@ -64,7 +67,7 @@ fn zero_ks_means_no_specular() {
     let e = derive(&ls);
     assert_eq!(e.lighting.value, Lighting::Diffuse);
     assert!(e.lighting.why.contains("k_s = 0"), "{}", e.lighting.why);
-    assert!(!pipeline::specular_pipeline(&effects::apply(&ls, &e).desc));
+    assert!(!render::specular_pipeline(&effects::apply(&ls, &e).desc));
     same_pixels_as_written(&ls);
 }
 
@@ -85,25 +88,25 @@ fn specular_pair_keeps_specular() {
     let ls = scene(&format!("{CAMERA}{SPEC_LIGHT}{SPEC_MATERIAL}{SPHERE}"));
     let e = derive(&ls);
     assert_eq!(e.lighting.value, Lighting::Specular);
-    assert!(pipeline::specular_pipeline(&effects::apply(&ls, &e).desc));
+    assert!(render::specular_pipeline(&effects::apply(&ls, &e).desc));
 }
 
 #[test]
 fn one_convex_mesh_with_culling_needs_no_depth_buffer() {
-    let ls = pipeline::load_arg("sphere").unwrap();
+    let ls = load::load_arg("sphere").unwrap();
     let e = derive(&ls);
     assert!(!e.depth.value);
     assert!(e.depth.why.contains("convex"), "{}", e.depth.why);
     same_pixels_as_written(&ls);
     // Phong too.
     let mut p = ls.clone();
-    p.desc.shading = ShadingName::Phong;
+    p.desc.shading = ShadingName::PHONG;
     same_pixels_as_written(&p);
 }
 
 #[test]
 fn depth_stays_on_where_surfaces_can_overlap() {
-    let teapot = derive(&pipeline::load_arg("teapot").unwrap());
+    let teapot = derive(&load::load_arg("teapot").unwrap());
     assert!(teapot.depth.value);
     assert!(
         teapot.depth.why.contains("not convex"),
@@ -129,19 +132,16 @@ fn adaptive_without_specular_is_gouraud() {
         "[render]\nshading = \"adaptive\"\n{CAMERA}{SPEC_LIGHT}{SPHERE}"
     ));
     let e = derive(&ls);
-    assert_eq!(e.shading.value, ShadingName::Gouraud);
+    assert_eq!(e.shading.value, ShadingName::GOURAUD);
     assert!(e.shading.why.contains("adaptive without"));
     // The derived frame is the Gouraud frame of the same scene. (Adaptive as written
     // still lights per pixel the triangles whose diffuse Gouraud error bound reaches
     // its limit; the rule trades that for the Gouraud cost.)
     let mut gouraud = ls.clone();
-    gouraud.desc.shading = ShadingName::Gouraud;
-    let derived = pipeline::render(&effects::apply(&ls, &e), None).unwrap();
+    gouraud.desc.shading = ShadingName::GOURAUD;
+    let derived = render::render(&effects::apply(&ls, &e), None).unwrap();
     assert_eq!(derived.stats.per_pixel, 0);
-    assert_eq!(
-        derived.bytes,
-        pipeline::render(&gouraud, None).unwrap().bytes
-    );
+    assert_eq!(derived.bytes, render::render(&gouraud, None).unwrap().bytes);
 }
 
 #[test]
@@ -186,9 +186,9 @@ fn perspective_correction_follows_the_scene_and_the_shading() {
     // Phong and adaptive shading are corrected too (normals and eye positions);
     // the explicit override still wins.
     for shading in [
-        ShadingName::Phong,
-        ShadingName::PhongEvenOdd,
-        ShadingName::Adaptive,
+        ShadingName::PHONG,
+        ShadingName::PHONG_EVEN_ODD,
+        ShadingName::ADAPTIVE,
     ] {
         let mut phong = asked.clone();
         phong.desc.shading = shading;
@@ -203,11 +203,11 @@ fn perspective_correction_follows_the_scene_and_the_shading() {
     }
     // The quadratic surface, flat shading and sampled Phong are not corrected.
     let mut quad = asked.clone();
-    quad.desc.shading = ShadingName::Quadratic;
+    quad.desc.shading = ShadingName::QUADRATIC;
     let e = derive(&quad);
     assert!(!e.perspective.value && e.perspective.why.contains("quadratic"));
     let mut sampled = asked.clone();
-    sampled.desc.shading = ShadingName::Phong;
+    sampled.desc.shading = ShadingName::PHONG;
     sampled.desc.raycast.sampled = true;
     let e = derive(&sampled);
     assert!(!e.perspective.value && e.perspective.why.contains("sampled"));
@@ -223,10 +223,10 @@ fn forced_settings_override_the_rules() {
     assert!(e.depth.value && e.depth.why.contains("scene file"));
     assert_eq!(e.lighting.value, Lighting::Diffuse);
     // -specular changes the pixels: the highlight is gone.
-    let forced = pipeline::render(&effects::apply(&ls, &e), None).unwrap();
+    let forced = render::render(&effects::apply(&ls, &e), None).unwrap();
     let mut plain = ls.clone();
     plain.desc.effects = Overrides::default();
-    let written = pipeline::render(&plain, None).unwrap();
+    let written = render::render(&plain, None).unwrap();
     assert_ne!(forced.bytes, written.bytes);
     // The command line comes after the scene file and wins.
     let mut cli = ls.clone();
@@ -255,12 +255,12 @@ fn forced_settings_override_the_rules() {
 #[test]
 fn adaptive_matches_phong_on_the_figures_and_counts_what_paid() {
     for fig in ["sphere", "teapot", "robot"] {
-        let mut phong = pipeline::load_arg(fig).unwrap();
-        phong.desc.shading = ShadingName::Phong;
+        let mut phong = load::load_arg(fig).unwrap();
+        phong.desc.shading = ShadingName::PHONG;
         let mut adaptive = phong.clone();
-        adaptive.desc.shading = ShadingName::Adaptive;
-        let p = pipeline::render(&phong, None).unwrap();
-        let a = pipeline::render(&adaptive, None).unwrap();
+        adaptive.desc.shading = ShadingName::ADAPTIVE;
+        let p = render::render(&phong, None).unwrap();
+        let a = render::render(&adaptive, None).unwrap();
         let c = compare(&p.image, &a.image).unwrap();
         let drawn = a.stats.triangles - a.stats.culled;
         println!(
@@ -493,11 +493,11 @@ fn diffuse_bound_is_never_below_the_gouraud_error_found_inside() {
 #[test]
 fn every_specular_model_is_non_decreasing() {
     // The adaptive bound evaluates the model at the bound of N·H.
-    use fixshade_sim::desc::{Named, SpecularName};
+    use fixshade_sim::scene::desc::{Named, SpecularName};
     for &(model, name) in SpecularName::ALL {
         for n in [1, 2, 8, 32, 128, 512, 1000] {
             let q = Q16_16::from_int(n);
-            let ok = fixshade_sim::with_specular!(model, Sp => {
+            let ok = fixshade::select_specular!(model.name(), Sp => {
                 let params = Sp::prepare(q);
                 let mut last = 0u64;
                 let mut ok = true;
@@ -507,7 +507,8 @@ fn every_specular_model_is_non_decreasing() {
                     last = v;
                 }
                 ok
-            });
+            })
+            .expect("a model of the registry");
             assert!(ok, "{name} n = {n} is not non-decreasing");
         }
     }

@@ -1,6 +1,6 @@
 //! The embedded-graphics adapter (`fixshade::eg::Model`) and the line-buffer
 //! interface (`fixshade::linebuf`) give the same bytes as the native framebuffer
-//! render (`fixshade_sim::pipeline::render`, a `Framebuffer` of the whole frame).
+//! render (`fixshade_sim::render::render`, a `Framebuffer` of the whole frame).
 //!
 //! * Every pixel format, several span methods and all three shadings, on the
 //!   figures, through a recording `DrawTarget` pre-filled with the background: the
@@ -25,9 +25,11 @@ use fixshade::linebuf::{render_lines, LineBufferProvider};
 use fixshade::raster::span::SpanMethod;
 use fixshade::render::{BandMemory, Frame, XfVertex};
 use fixshade::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888};
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::desc::{FormatName, ShadingName, SpanName};
-use fixshade_sim::pipeline::{self, background_channels, load_arg, LoadedScene};
+use fixshade_sim::render;
+use fixshade_sim::scene::convert::background_channels;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::desc::{FormatName, Named, ShadingName, SpanName};
+use fixshade_sim::scene::load::{load_arg, LoadedScene};
 use fixshade_sim::with_span_method;
 
 /// A format whose display colour converts back to the stored pixel.
@@ -234,7 +236,7 @@ fn through_lines<P: PixelFormat, S: SpanMethod>(ls: &LoadedScene, band_rows: u32
 }
 
 fn check_format<P: Back>(ls: &LoadedScene, what: &str) {
-    let native = pipeline::render(ls, None).unwrap().bytes;
+    let native = render::render(ls, None).unwrap().bytes;
     let d = &ls.desc;
     for rows in [1, 7, 240] {
         let (bytes, rec) = with_span_method!(d.span, S => through_adapter::<P, S>(ls, rows));
@@ -272,23 +274,26 @@ fn check_format<P: Back>(ls: &LoadedScene, what: &str) {
 }
 
 fn check(ls: &LoadedScene, what: &str) {
-    match ls.desc.format {
-        FormatName::Rgb565Le => check_format::<Rgb565Le>(ls, what),
-        FormatName::Rgb565Be => check_format::<Rgb565Be>(ls, what),
-        FormatName::Rgb888 => check_format::<Rgb888>(ls, what),
-        FormatName::Gray8 => check_format::<Gray8>(ls, what),
+    // Every pixel format of the core's registry.
+    macro_rules! by_format {
+        ([] $($P:ty),* $(,)?) => {{
+            let mut at = 0;
+            $(
+                if ls.desc.format.index() == at {
+                    return check_format::<$P>(ls, what);
+                }
+                at += 1;
+            )*
+            unreachable!("format {at}")
+        }};
     }
+    fixshade::for_each_pixel_format!(by_format)
 }
 
 #[test]
 fn adapter_and_line_buffer_equal_framebuffer_every_format() {
     let mut ls = load_arg("teapot").unwrap();
-    for format in [
-        FormatName::Rgb565Le,
-        FormatName::Rgb565Be,
-        FormatName::Rgb888,
-        FormatName::Gray8,
-    ] {
+    for &(format, _) in FormatName::ALL {
         ls.desc.format = format;
         check(&ls, &format!("teapot {format:?}"));
     }
@@ -299,20 +304,20 @@ fn adapter_and_line_buffer_equal_framebuffer_methods_and_shadings() {
     for name in ["sphere", "robot"] {
         let mut ls = load_arg(name).unwrap();
         for span in [
-            SpanName::Classic,
-            SpanName::KWay3,
-            SpanName::Segment8,
-            SpanName::Sierpinski,
+            SpanName::CLASSIC,
+            SpanName::named("kway3"),
+            SpanName::named("segment8"),
+            SpanName::named("sierpinski"),
         ] {
             ls.desc.span = span;
             check(&ls, &format!("{name} {span:?}"));
         }
-        ls.desc.span = SpanName::Gradient;
-        for shading in [ShadingName::Flat, ShadingName::Quadratic] {
+        ls.desc.span = SpanName::GRADIENT;
+        for shading in [ShadingName::FLAT, ShadingName::QUADRATIC] {
             ls.desc.shading = shading;
             check(&ls, &format!("{name} {shading:?}"));
         }
-        ls.desc.shading = ShadingName::Gouraud;
+        ls.desc.shading = ShadingName::GOURAUD;
         // Without the depth test (and without a depth buffer): later triangles win.
         ls.desc.depth_test = false;
         ls.desc.cull_back = false;
@@ -323,7 +328,7 @@ fn adapter_and_line_buffer_equal_framebuffer_methods_and_shadings() {
 #[test]
 fn adapter_fills_one_run_per_row_of_a_convex_silhouette() {
     let ls = load_arg("sphere").unwrap();
-    let native = pipeline::render(&ls, None).unwrap();
+    let native = render::render(&ls, None).unwrap();
     let w = ls.desc.width as usize;
     let covered_rows = native
         .image
@@ -351,7 +356,7 @@ fn adapter_fills_one_run_per_row_of_a_convex_silhouette() {
 #[test]
 fn adapter_draws_at_an_offset_and_leaves_the_rest() {
     let mut ls = load_arg("sphere").unwrap();
-    ls.desc.format = FormatName::Rgb888;
+    ls.desc.format = FormatName::RGB888;
     let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
     let (w, h) = (ls.desc.width, ls.desc.height);
     let marker = embedded_graphics_core::pixelcolor::Rgb888::new(1, 2, 3);
@@ -369,7 +374,7 @@ fn adapter_draws_at_an_offset_and_leaves_the_rest() {
     .unwrap()
     .at(Point::new(20, 10));
     model.draw(&mut display).unwrap().unwrap();
-    let native = pipeline::render(&ls, None).unwrap();
+    let native = render::render(&ls, None).unwrap();
     let dw = (w + 20) as usize;
     for y in 0..(h + 10) as usize {
         for x in 0..dw {

@@ -7,7 +7,8 @@
 //! the pictures, and commit them.
 
 use fixshade_sim::image::Image;
-use fixshade_sim::pipeline::{self, load_arg};
+use fixshade_sim::render;
+use fixshade_sim::scene::load::load_arg;
 use fixshade_tests::*;
 
 const REGENERATE: &str =
@@ -60,7 +61,7 @@ fn figures_match_golden_images() {
     let mut failures = Vec::new();
     for name in FIGURES {
         let ls = load_arg(name).unwrap();
-        let got = pipeline::render(&ls, None).unwrap().image;
+        let got = render::render(&ls, None).unwrap().image;
         let path = dir.join(format!("{name}.png"));
         if bless() {
             std::fs::create_dir_all(&dir).unwrap();
@@ -85,7 +86,7 @@ fn figures_match_golden_images() {
 #[test]
 fn golden_comparison_detects_one_pixel() {
     let ls = load_arg("sphere").unwrap();
-    let img = pipeline::render(&ls, None).unwrap().image;
+    let img = render::render(&ls, None).unwrap().image;
     // A PNG round trip keeps everything.
     let dir = temp_dir("golden");
     let path = dir.join("sphere.png");

@@ -6,28 +6,7 @@
 //! strip = frame, first-wins depth ties). See `fixshade_tests::hard`.
 
 use fixshade_tests::catalogue::{self, TRI_HOLDS};
-use fixshade_tests::hard::{bake_triangles, check_all, Case, Figures, Holds, BAKED_TRIANGLES};
-
-/// The firmware's copy of the triangle catalogue (`boards/baked/catalogue/`) is the
-/// catalogue: baked again here, any difference fails. `FIXSHADE_BLESS=1` rewrites it.
-#[test]
-fn baked_triangle_catalogue_is_current() {
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../boards")
-        .join(BAKED_TRIANGLES);
-    let want = bake_triangles(&catalogue::triangle_cases());
-    if std::env::var_os("FIXSHADE_BLESS").is_some() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, &want).unwrap();
-        return;
-    }
-    let have = std::fs::read_to_string(&path).unwrap_or_default();
-    assert!(
-        have == want,
-        "{} is stale: FIXSHADE_BLESS=1 cargo test -p fixshade-tests --test hard_cases baked",
-        path.display()
-    );
-}
+use fixshade_tests::hard::{check_all, Case, Figures, Holds};
 
 #[test]
 fn triangle_catalogue() {
@@ -79,9 +58,9 @@ fn triangle_catalogue() {
 /// strips, and checks its `holds`.
 #[test]
 fn scene_catalogue() {
-    use fixshade_sim::compare::compare;
-    use fixshade_sim::desc::{Named, ShadingName};
-    use fixshade_sim::pipeline::{reference, render};
+    use fixshade_sim::image::compare::compare;
+    use fixshade_sim::render::{reference, render};
+    use fixshade_sim::scene::desc::{Named, ShadingName};
 
     let cases = catalogue::scene_cases();
     assert!(
@@ -102,7 +81,7 @@ fn scene_catalogue() {
         let mut check = || -> Result<String, String> {
             let mut covered = 0;
             for (shading, _) in ShadingName::ALL {
-                for (span, sname) in fixshade_sim::desc::SpanName::ALL {
+                for (span, sname) in fixshade_sim::scene::desc::SpanName::ALL {
                     ls.desc.shading = *shading;
                     ls.desc.span = *span;
                     let what = format!("{} {sname}", shading.name());
@@ -130,17 +109,17 @@ fn scene_catalogue() {
                         return Err(format!("{what}: {n} pixels covered, expected none"));
                     }
                     // Sierpinski snaps vertices to even pixels: a tiny object may vanish.
-                    let snaps = *span == fixshade_sim::desc::SpanName::Sierpinski;
+                    let snaps = *span == fixshade_sim::scene::desc::SpanName::named("sierpinski");
                     // The ray caster skips mesh triangles with a vertex behind the
                     // eye, where the rasterizer clips them (a known limitation of
                     // `fixshade::raycast`): in this case every triangle crosses the
                     // eye plane, so its ray-cast image is empty.
-                    let caster_skips = *shading == ShadingName::Raycast && sc.name == "w-near-zero";
+                    let caster_skips = *shading == ShadingName::RAYCAST && sc.name == "w-near-zero";
                     if sc.holds("nonempty") && n == 0 && !snaps && !caster_skips {
                         return Err(format!("{what}: nothing covered"));
                     }
-                    let gradient = *span == fixshade_sim::desc::SpanName::Gradient;
-                    if gradient && *shading == ShadingName::Gouraud {
+                    let gradient = *span == fixshade_sim::scene::desc::SpanName::GRADIENT;
+                    if gradient && *shading == ShadingName::GOURAUD {
                         let r = reference(&ls, false);
                         let c = compare(&r, &whole.image)?;
                         if sc.holds("coverage") && c.coverage_mismatch != 0 {
@@ -260,8 +239,8 @@ fn fuzz_seeds_are_current() {
         let text = std::fs::read(catalogue::path(&sc.scene)).unwrap();
         seeds.push((format!("scene_file/{}", sc.name), text));
     }
-    for name in fixshade_sim::scene_file::BUILTIN_SCENES {
-        let text = fixshade_sim::scene_file::builtin_scene_text(name).unwrap();
+    for name in fixshade_sim::scene::builtin::SCENES {
+        let text = fixshade_sim::scene::builtin::text(name).unwrap();
         seeds.push((
             format!("scene_file/builtin-{name}"),
             text.as_bytes().to_vec(),
@@ -321,11 +300,11 @@ fn fuzz_seeds_are_current() {
 /// either takes the mesh or rejects it with an error.
 #[test]
 fn obj_catalogue_normals_are_finite_units() {
-    use fixshade_sim::convert::{quantize_mesh, FixedMesh};
+    use fixshade_sim::scene::convert::{quantize_mesh, FixedMesh};
     let mut n = 0;
     for e in std::fs::read_dir(catalogue::path("meshes")).unwrap() {
         let p = e.unwrap().path();
-        let m = fixshade_sim::mesh::load_obj(&p).unwrap_or_else(|e| panic!("{e}"));
+        let m = fixshade_sim::scene::mesh::load_obj(&p).unwrap_or_else(|e| panic!("{e}"));
         for v in &m.normals {
             let len = v.iter().map(|c| c * c).sum::<f64>().sqrt();
             assert!((len - 1.0).abs() < 1e-9, "{}: normal {v:?}", p.display());

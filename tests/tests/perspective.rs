@@ -7,14 +7,17 @@
 //! shading.
 
 use fixshade::divide::Divide;
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::{DivideName, Named, ShadingName};
-use fixshade_sim::effects::table_scene_path;
-use fixshade_sim::host_divide::{select, HostDivide};
-use fixshade_sim::pipeline::{self, LoadedScene};
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::render::host::{with_selection, HostDivide};
+use fixshade_sim::scene::desc::SpecularName;
+use fixshade_sim::scene::desc::{DivideName, Named, ShadingName};
+use fixshade_sim::scene::load;
+use fixshade_sim::scene::load::LoadedScene;
+use fixshade_sim::tables::effects::table_scene_path;
 
 fn load(name: &str) -> LoadedScene {
-    pipeline::load_arg(&table_scene_path(name).display().to_string()).unwrap()
+    load::load_arg(&table_scene_path(name).display().to_string()).unwrap()
 }
 
 fn with(ls: &LoadedScene, on: bool, span: u32) -> LoadedScene {
@@ -26,8 +29,8 @@ fn with(ls: &LoadedScene, on: bool, span: u32) -> LoadedScene {
 
 /// NMSE of a fixed-point render against the perspective-correct reference.
 fn nmse(ls: &LoadedScene) -> f64 {
-    let reference = pipeline::matching_reference(&with(ls, true, 1));
-    let r = pipeline::render(ls, None).unwrap();
+    let reference = render::matching_reference(&with(ls, true, 1));
+    let r = render::render(ls, None).unwrap();
     let c = compare(&reference, &r.image).unwrap();
     assert_eq!(c.coverage_mismatch, 0);
     c.nmse
@@ -64,9 +67,9 @@ fn small_triangles_err_little_without_it() {
 fn strips_equal_the_whole_frame() {
     for span in [1, 16] {
         let ls = with(&load("ground-plane"), true, span);
-        let whole = pipeline::render(&ls, None).unwrap();
+        let whole = render::render(&ls, None).unwrap();
         for rows in [1, 7, 16] {
-            let strips = pipeline::render(&ls, Some(rows)).unwrap();
+            let strips = render::render(&ls, Some(rows)).unwrap();
             assert!(
                 strips.bytes == whole.bytes,
                 "span {span}, strips of {rows} rows"
@@ -78,11 +81,11 @@ fn strips_equal_the_whole_frame() {
 #[test]
 fn dividers_keep_coverage_and_stay_close() {
     let exact = with(&load("ground-plane"), true, 16);
-    let base = pipeline::render(&exact, None).unwrap();
+    let base = render::render(&exact, None).unwrap();
     for &(d, name) in DivideName::ALL {
         let mut ls = exact.clone();
         ls.desc.divide = d;
-        let r = pipeline::render(&ls, None).unwrap();
+        let r = render::render(&ls, None).unwrap();
         let c = compare(&base.image, &r.image).unwrap();
         assert_eq!(c.coverage_mismatch, 0, "{name}");
         // The reciprocal of the wide denominator never over-estimates and is within
@@ -90,12 +93,13 @@ fn dividers_keep_coverage_and_stay_close() {
         // b the divider's mantissa bits, E its error on 2³⁰): both weights shrink
         // by at most η, so a colour moves towards the top vertex's by at most η of
         // the 255 range; the sub-span interpolates two such ends; one Rgb565 step.
-        if d == DivideName::Exact {
+        if d == DivideName::EXACT {
             continue;
         }
-        select(d);
-        let b = HostDivide::mantissa_bits().clamp(1, 12);
-        let e = HostDivide::max_error(1 << 30, 1 << b) as f64;
+        let (b, e) = with_selection(d, SpecularName::EXACT, || {
+            let b = HostDivide::mantissa_bits().clamp(1, 12);
+            (b, HostDivide::max_error(1 << 30, 1 << b) as f64)
+        });
         let eta = 2f64.powi(1 - b as i32) + (2.0 * e + 2.0) * 2f64.powi(b as i32 - 30);
         let bound = ((255.0 * eta.min(1.0)).ceil() + 8.0).min(255.0) as u8;
         println!(
@@ -108,15 +112,15 @@ fn dividers_keep_coverage_and_stay_close() {
             c.max_channel_error
         );
     }
-    assert_eq!(DivideName::parse("exact").unwrap(), DivideName::Exact);
+    assert_eq!(DivideName::parse("exact").unwrap(), DivideName::EXACT);
 }
 
 #[test]
 fn an_orthographic_camera_gains_nothing() {
     let mut ls = load("hud-gauge");
-    ls.desc.shading = ShadingName::Gouraud;
-    let off = pipeline::render(&with(&ls, false, 1), None).unwrap();
-    let on = pipeline::render(&with(&ls, true, 1), None).unwrap();
+    ls.desc.shading = ShadingName::GOURAUD;
+    let off = render::render(&with(&ls, false, 1), None).unwrap();
+    let on = render::render(&with(&ls, true, 1), None).unwrap();
     let c = compare(&off.image, &on.image).unwrap();
     assert_eq!(c.coverage_mismatch, 0);
     // Constant w: the weights are the screen ones, to rounding.
@@ -126,7 +130,7 @@ fn an_orthographic_camera_gains_nothing() {
 #[test]
 fn phong_on_large_triangles_needs_the_correction() {
     let ls = load("ground-plane-phong");
-    assert_eq!(ls.desc.shading, ShadingName::Phong);
+    assert_eq!(ls.desc.shading, ShadingName::PHONG);
     let affine = nmse(&with(&ls, false, 1));
     let on: Vec<f64> = [1, 8, 16, 32]
         .iter()
@@ -157,12 +161,12 @@ fn phong_on_small_triangles_errs_little_without_it() {
 #[test]
 fn phong_fills_adaptive_and_strips() {
     let ls = with(&load("ground-plane-phong"), true, 16);
-    let rows = pipeline::render(&ls, None).unwrap();
+    let rows = render::render(&ls, None).unwrap();
     let mut eo = ls.clone();
-    eo.desc.shading = ShadingName::PhongEvenOdd;
-    assert!(pipeline::render(&eo, None).unwrap().bytes == rows.bytes);
+    eo.desc.shading = ShadingName::PHONG_EVEN_ODD;
+    assert!(render::render(&eo, None).unwrap().bytes == rows.bytes);
     for rows_n in [1, 7] {
-        let strips = pipeline::render(&ls, Some(rows_n)).unwrap();
+        let strips = render::render(&ls, Some(rows_n)).unwrap();
         assert!(strips.bytes == rows.bytes, "strips of {rows_n} rows");
     }
     let fine = load("ground-fine-phong");
@@ -170,7 +174,7 @@ fn phong_fills_adaptive_and_strips() {
         .iter()
         .map(|&on| {
             let mut ad = with(&fine, on, 1);
-            ad.desc.shading = ShadingName::Adaptive;
+            ad.desc.shading = ShadingName::ADAPTIVE;
             nmse(&ad)
         })
         .collect();

@@ -11,9 +11,10 @@ use fixshade::render::{Frame, XfVertex};
 use fixshade::scene::{Camera, Object, Placement, Projection, Scene, ShadingMode};
 use fixshade::shade::Phong;
 use fixshade::target::{Framebuffer, Rgb888};
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::{LightKind, Named, ShadingName, SpecularName};
-use fixshade_sim::pipeline;
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::{LightKind, Named, ShadingName, SpecularName};
+use fixshade_sim::scene::load;
 
 const FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
 
@@ -21,10 +22,10 @@ const FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
 fn phong_with_exact_specular_matches_the_reference() {
     println!("figure    model             NMSE vs exact f64 Phong");
     for fig in FIGURES {
-        let mut ls = pipeline::load_arg(fig).unwrap();
-        ls.desc.shading = ShadingName::Phong;
-        let reference = pipeline::matching_reference(&ls);
-        let exact = compare(&reference, &pipeline::render(&ls, None).unwrap().image).unwrap();
+        let mut ls = load::load_arg(fig).unwrap();
+        ls.desc.shading = ShadingName::PHONG;
+        let reference = render::matching_reference(&ls);
+        let exact = compare(&reference, &render::render(&ls, None).unwrap().image).unwrap();
         println!("{fig:8}  {:16}  {:.3e}", "exact", exact.nmse);
         assert_eq!(exact.coverage_mismatch, 0, "{fig}");
         assert!(exact.nmse <= 1e-5, "{fig}: NMSE {}", exact.nmse);
@@ -32,27 +33,27 @@ fn phong_with_exact_specular_matches_the_reference() {
         // (a model that were not wired in would reproduce the exact one).
         for &(model, name) in &SpecularName::ALL[1..] {
             ls.desc.specular = model;
-            let c = compare(&reference, &pipeline::render(&ls, None).unwrap().image).unwrap();
+            let c = compare(&reference, &render::render(&ls, None).unwrap().image).unwrap();
             println!("{fig:8}  {name:16}  {:.3e}", c.nmse);
             assert_eq!(c.coverage_mismatch, 0, "{fig} {name}");
             assert!(c.nmse > exact.nmse, "{fig} {name}: {} ≤ exact", c.nmse);
         }
-        ls.desc.specular = SpecularName::Exact;
+        ls.desc.specular = SpecularName::EXACT;
     }
 }
 
 #[test]
 fn even_odd_fill_and_strips_are_bit_identical() {
     for fig in FIGURES {
-        let mut ls = pipeline::load_arg(fig).unwrap();
-        ls.desc.shading = ShadingName::Phong;
-        let rows = pipeline::render(&ls, None).unwrap();
-        ls.desc.shading = ShadingName::PhongEvenOdd;
-        let eo = pipeline::render(&ls, None).unwrap();
+        let mut ls = load::load_arg(fig).unwrap();
+        ls.desc.shading = ShadingName::PHONG;
+        let rows = render::render(&ls, None).unwrap();
+        ls.desc.shading = ShadingName::PHONG_EVEN_ODD;
+        let eo = render::render(&ls, None).unwrap();
         assert_eq!(rows.bytes, eo.bytes, "{fig}: even/odd differs from rows");
         assert_eq!(rows.stats, eo.stats, "{fig}");
         for strip in [1, 7, 16] {
-            let s = pipeline::render(&ls, Some(strip)).unwrap();
+            let s = render::render(&ls, Some(strip)).unwrap();
             assert_eq!(rows.bytes, s.bytes, "{fig}: strips of {strip} rows differ");
         }
     }
@@ -62,13 +63,13 @@ fn even_odd_fill_and_strips_are_bit_identical() {
 fn extreme_exponents_stay_exact() {
     for n in [1.0, 1000.0] {
         for fig in ["sphere", "teapot"] {
-            let mut ls = pipeline::load_arg(fig).unwrap();
-            ls.desc.shading = ShadingName::Phong;
+            let mut ls = load::load_arg(fig).unwrap();
+            ls.desc.shading = ShadingName::PHONG;
             for o in &mut ls.desc.objects {
                 o.material.shininess = n;
             }
-            let reference = pipeline::matching_reference(&ls);
-            let c = compare(&reference, &pipeline::render(&ls, None).unwrap().image).unwrap();
+            let reference = render::matching_reference(&ls);
+            let c = compare(&reference, &render::render(&ls, None).unwrap().image).unwrap();
             println!(
                 "{fig} n = {n}: NMSE {:.3e}, max error {}",
                 c.nmse, c.max_channel_error
@@ -80,15 +81,15 @@ fn extreme_exponents_stay_exact() {
 
 #[test]
 fn light_behind_the_surface_leaves_ambient_only() {
-    let mut ls = pipeline::load_arg("sphere").unwrap();
-    ls.desc.shading = ShadingName::Phong;
+    let mut ls = load::load_arg("sphere").unwrap();
+    ls.desc.shading = ShadingName::PHONG;
     for l in &mut ls.desc.lights {
         l.kind = LightKind::Directional {
             direction: [0.0, 0.0, -1.0],
         };
     }
-    let reference = pipeline::matching_reference(&ls);
-    let r = pipeline::render(&ls, None).unwrap();
+    let reference = render::matching_reference(&ls);
+    let r = render::render(&ls, None).unwrap();
     let c = compare(&reference, &r.image).unwrap();
     assert!(c.nmse <= 1e-5, "NMSE {}", c.nmse);
     // Ambient only: every covered pixel has one colour.

@@ -3,15 +3,17 @@
 //! give the whole frame's bytes, and longer segments light fewer pixels at a
 //! measured cost in accuracy.
 
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::{FormatName, ShadingName};
-use fixshade_sim::pipeline::{self, LoadedScene};
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::{FormatName, ShadingName};
+use fixshade_sim::scene::load;
+use fixshade_sim::scene::load::LoadedScene;
 
 const FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
 
 fn phong(fig: &str) -> LoadedScene {
-    let mut ls = pipeline::load_arg(fig).unwrap();
-    ls.desc.shading = ShadingName::Phong;
+    let mut ls = load::load_arg(fig).unwrap();
+    ls.desc.shading = ShadingName::PHONG;
     ls
 }
 
@@ -26,9 +28,9 @@ fn sampled(fig: &str, segment: u32, threshold: f64) -> LoadedScene {
 #[test]
 fn segment_one_is_the_per_pixel_render() {
     for fig in FIGURES {
-        let full = pipeline::render(&phong(fig), None).unwrap();
+        let full = render::render(&phong(fig), None).unwrap();
         for k in [0.0, 2.3, 64.0] {
-            let s = pipeline::render(&sampled(fig, 1, k), None).unwrap();
+            let s = render::render(&sampled(fig, 1, k), None).unwrap();
             assert_eq!(s.bytes, full.bytes, "{fig} K = {k}");
             // Every covered pixel was lit once (hidden ones too: the depth test
             // comes after the evaluation).
@@ -45,9 +47,9 @@ fn segment_one_is_the_per_pixel_render() {
 fn strips_give_the_whole_frame() {
     for fig in FIGURES {
         let ls = sampled(fig, 8, 2.3);
-        let whole = pipeline::render(&ls, None).unwrap();
+        let whole = render::render(&ls, None).unwrap();
         for rows in [1, 7, 16] {
-            let s = pipeline::render(&ls, Some(rows)).unwrap();
+            let s = render::render(&ls, Some(rows)).unwrap();
             assert_eq!(s.bytes, whole.bytes, "{fig}: strips of {rows} rows");
         }
     }
@@ -57,16 +59,16 @@ fn strips_give_the_whole_frame() {
 fn longer_segments_light_fewer_pixels() {
     println!("figure  format    L   K     evals/px  NMSE vs per-pixel Phong  NMSE vs f64 Phong");
     for fig in FIGURES {
-        for format in [FormatName::Rgb888, FormatName::Rgb565Le] {
+        for format in [FormatName::RGB888, FormatName::RGB565LE] {
             let mut base = phong(fig);
             base.desc.format = format;
-            let full = pipeline::render(&base, None).unwrap();
-            let reference = pipeline::matching_reference(&base);
+            let full = render::render(&base, None).unwrap();
+            let reference = render::matching_reference(&base);
             let mut first = None;
             for l in [2, 4, 8, 16] {
                 let mut ls = sampled(fig, l, 2.3);
                 ls.desc.format = format;
-                let r = pipeline::render(&ls, None).unwrap();
+                let r = render::render(&ls, None).unwrap();
                 let per_px = r.stats.evaluations as f64 / r.stats.pixels as f64;
                 let vs_full = compare(&full.image, &r.image).unwrap();
                 let vs_ref = compare(&reference, &r.image).unwrap();

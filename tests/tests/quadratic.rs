@@ -8,10 +8,12 @@ use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::shade::{Gouraud, Quadratic, QuadraticRows, Shading};
 use fixshade::target::{Framebuffer, Rgb888, Strip};
-use fixshade_sim::compare::compare;
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::desc::{FormatName, ShadingName, SpanName};
-use fixshade_sim::pipeline::{self, LoadedScene};
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::desc::{FormatName, ShadingName, SpanName};
+use fixshade_sim::scene::load;
+use fixshade_sim::scene::load::LoadedScene;
 
 const FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
 
@@ -19,12 +21,12 @@ const FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
 fn quadratic_beats_gouraud_against_phong() {
     println!("figure    Gouraud NMSE   quadratic NMSE   (both vs exact Phong)");
     for fig in FIGURES {
-        let mut ls = pipeline::load_arg(fig).unwrap();
-        let phong = pipeline::reference(&ls, true);
-        ls.desc.shading = ShadingName::Gouraud;
-        let g = compare(&phong, &pipeline::render(&ls, None).unwrap().image).unwrap();
-        ls.desc.shading = ShadingName::Quadratic;
-        let r = pipeline::render(&ls, None).unwrap();
+        let mut ls = load::load_arg(fig).unwrap();
+        let phong = render::reference(&ls, true);
+        ls.desc.shading = ShadingName::GOURAUD;
+        let g = compare(&phong, &render::render(&ls, None).unwrap().image).unwrap();
+        ls.desc.shading = ShadingName::QUADRATIC;
+        let r = render::render(&ls, None).unwrap();
         let q = compare(&phong, &r.image).unwrap();
         println!("{fig:8}  {:12.3e}   {:14.3e}", g.nmse, q.nmse);
         assert_eq!(q.coverage_mismatch, 0, "{fig}");
@@ -64,8 +66,8 @@ fn draw_frame<Sh: Shading>(ls: &LoadedScene) -> (Vec<[u8; 3]>, Vec<u16>, Stats) 
 #[test]
 fn figures_blocks_equal_rows_and_cover_like_gradient() {
     for fig in FIGURES {
-        let mut ls = pipeline::load_arg(fig).unwrap();
-        ls.desc.format = FormatName::Rgb888;
+        let mut ls = load::load_arg(fig).unwrap();
+        ls.desc.format = FormatName::RGB888;
         let (cb, db, sb) = draw_frame::<Quadratic>(&ls);
         let (cr, dr, sr) = draw_frame::<QuadraticRows>(&ls);
         let (_, dg, sg) = draw_frame::<Gouraud>(&ls);
@@ -83,11 +85,11 @@ fn figures_blocks_equal_rows_and_cover_like_gradient() {
 fn strips_give_the_same_bytes_as_the_whole_frame() {
     // Odd strip heights move the pairing of rows into 2×2 blocks.
     for fig in FIGURES {
-        let mut ls = pipeline::load_arg(fig).unwrap();
-        ls.desc.shading = ShadingName::Quadratic;
-        let whole = pipeline::render(&ls, None).unwrap().bytes;
+        let mut ls = load::load_arg(fig).unwrap();
+        ls.desc.shading = ShadingName::QUADRATIC;
+        let whole = render::render(&ls, None).unwrap().bytes;
         for rows in [1, 7, 32] {
-            let strips = pipeline::render(&ls, Some(rows)).unwrap().bytes;
+            let strips = render::render(&ls, Some(rows)).unwrap().bytes;
             assert!(whole == strips, "{fig}: strips of {rows} rows differ");
         }
     }
@@ -95,12 +97,16 @@ fn strips_give_the_same_bytes_as_the_whole_frame() {
 
 #[test]
 fn span_method_does_not_change_the_surface() {
-    let mut ls = pipeline::load_arg("sphere").unwrap();
-    ls.desc.shading = ShadingName::Quadratic;
-    let want = pipeline::render(&ls, None).unwrap();
-    for m in [SpanName::Classic, SpanName::Sierpinski, SpanName::KWay4] {
+    let mut ls = load::load_arg("sphere").unwrap();
+    ls.desc.shading = ShadingName::QUADRATIC;
+    let want = render::render(&ls, None).unwrap();
+    for m in [
+        SpanName::CLASSIC,
+        SpanName::named("sierpinski"),
+        SpanName::named("kway4"),
+    ] {
         ls.desc.span = m;
-        let got = pipeline::render(&ls, None).unwrap();
+        let got = render::render(&ls, None).unwrap();
         assert!(want.bytes == got.bytes, "{m:?}");
         assert_eq!(want.image.covered, got.image.covered, "{m:?}");
     }

@@ -8,10 +8,12 @@ use fixshade::raycast::{Caster, Plane, RayPixels, RayScene, RayVertex, Sphere, T
 use fixshade::sampler::{fill_blocks, fill_row, PixelFn, Threshold};
 use fixshade::scene::{Camera, Projection, Scene};
 use fixshade::target::{PixelFormat, Rgb888};
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::{FormatName, ShadingName};
-use fixshade_sim::pipeline::{self, load_arg};
-use fixshade_sim::raycast::{ray_image, threshold_q8, Sampling};
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render;
+use fixshade_sim::render::raycast::{ray_image, Sampling};
+use fixshade_sim::scene::convert::threshold_q8;
+use fixshade_sim::scene::desc::{FormatName, ShadingName};
+use fixshade_sim::scene::load::load_arg;
 
 /// The every-pixel evaluation of `f` over a `w × h` frame.
 fn every_pixel<F: PixelFn>(f: &mut F, w: u32, h: u32) -> Vec<[u32; 3]> {
@@ -76,14 +78,14 @@ fn segment_one_equals_per_pixel_evaluation_of_the_ray_caster() {
         assert_eq!(every.evaluations, (w * h) as u64, "{name}");
         // The same ray caster evaluated directly at every pixel, without the sampler.
         let d = &ls.desc;
-        let scene = fixshade_sim::convert::core_scene(d, &ls.fixed).unwrap();
+        let scene = fixshade_sim::scene::convert::core_scene(d, &ls.fixed).unwrap();
         let spheres: Vec<Sphere> = d
             .raycast
             .spheres
             .iter()
             .map(|s| Sphere {
-                centre: s.centre.map(fixshade_sim::convert::q16),
-                radius: fixshade_sim::convert::q16(s.radius),
+                centre: s.centre.map(fixshade_sim::scene::convert::q16),
+                radius: fixshade_sim::scene::convert::q16(s.radius),
                 material: shiny_from(&s.material),
             })
             .collect();
@@ -92,8 +94,8 @@ fn segment_one_equals_per_pixel_evaluation_of_the_ray_caster() {
             .planes
             .iter()
             .map(|p| Plane {
-                point: p.point.map(fixshade_sim::convert::q16),
-                normal: p.normal.map(fixshade_sim::convert::q16),
+                point: p.point.map(fixshade_sim::scene::convert::q16),
+                normal: p.normal.map(fixshade_sim::scene::convert::q16),
                 material: shiny_from(&p.material),
             })
             .collect();
@@ -106,8 +108,8 @@ fn segment_one_equals_per_pixel_evaluation_of_the_ray_caster() {
         let mut cache = vec![RayVertex::default(); scene.vertex_count()];
         let mut boxes = vec![TriBox::default(); rs.triangle_count()];
         let caster = Caster::<BlinnExact>::prepare(rs, w, h, &mut cache, &mut boxes).unwrap();
-        let bg = pipeline::background_channels(d.format, d.background);
-        assert_eq!(d.format, FormatName::Rgb565Le);
+        let bg = fixshade_sim::scene::convert::background_channels(d.format, d.background);
+        assert_eq!(d.format, FormatName::RGB565LE);
         let mut f = RayPixels::<BlinnExact, fixshade::target::Rgb565Le>::new(&caster, bg);
         let direct = every_pixel(&mut f, w, h);
         assert!(
@@ -127,8 +129,8 @@ fn segment_one_equals_per_pixel_evaluation_of_the_ray_caster() {
     }
 }
 
-fn shiny_from(m: &fixshade_sim::desc::MaterialDesc) -> Material {
-    use fixshade_sim::convert::q16;
+fn shiny_from(m: &fixshade_sim::scene::desc::MaterialDesc) -> Material {
+    use fixshade_sim::scene::convert::q16;
     Material {
         emission: m.emission.map(q16),
         ambient: m.ambient.map(q16),
@@ -235,11 +237,11 @@ fn ray_caster_agrees_with_the_phong_reference_on_the_sphere() {
     // render of the same tessellated sphere with perspective-correct interpolation
     // (rays interpolate perspective-correctly). Shadows off: the reference has none.
     let mut ls = load_arg("sphere").unwrap();
-    ls.desc.format = FormatName::Rgb888;
+    ls.desc.format = FormatName::RGB888;
     ls.desc.perspective_correct = true;
-    ls.desc.shading = ShadingName::Raycast;
+    ls.desc.shading = ShadingName::RAYCAST;
     ls.desc.raycast.shadows = false;
-    let phong = pipeline::reference(&ls, true);
+    let phong = render::reference(&ls, true);
     let r = ray_image(&ls, Sampling::EVERY_PIXEL).unwrap();
     let c = compare(&phong, &r.image).unwrap();
     println!(
@@ -250,9 +252,9 @@ fn ray_caster_agrees_with_the_phong_reference_on_the_sphere() {
     // And against the rasterizer's own Phong render of the same sphere (screen-affine
     // interpolation of normals and positions, fixed point throughout).
     let mut lp = load_arg("sphere").unwrap();
-    lp.desc.format = FormatName::Rgb888;
-    lp.desc.shading = ShadingName::Phong;
-    let raster = pipeline::render(&lp, None).unwrap();
+    lp.desc.format = FormatName::RGB888;
+    lp.desc.shading = ShadingName::PHONG;
+    let raster = render::render(&lp, None).unwrap();
     let cr = compare(&raster.image, &r.image).unwrap();
     println!(
         "sphere ray cast vs rasterized Phong: NMSE {:.3e}, max channel error {}",
@@ -265,7 +267,7 @@ fn ray_caster_agrees_with_the_phong_reference_on_the_sphere() {
     let cs = compare(&phong, &rs.image).unwrap();
     println!("  with shadows: NMSE {:.3e}", cs.nmse);
     // The pipeline's `shading = "raycast"` is this render with the scene's sampling.
-    let p = pipeline::render(&ls, None).unwrap();
+    let p = render::render(&ls, None).unwrap();
     let own = ray_image(&ls, Sampling::of(&ls.desc)).unwrap();
     assert!(p.image.pixels == own.image.pixels);
 }
@@ -376,9 +378,9 @@ fn mesh_coverage_equals_the_rasterizer() {
     // teapot and robot cover exactly the pixels the rasterizer covers.
     for name in ["teapot", "robot"] {
         let mut ls = load_arg(name).unwrap();
-        ls.desc.format = FormatName::Rgb888;
-        let raster = pipeline::render(&ls, None).unwrap();
-        ls.desc.shading = ShadingName::Raycast;
+        ls.desc.format = FormatName::RGB888;
+        let raster = render::render(&ls, None).unwrap();
+        ls.desc.shading = ShadingName::RAYCAST;
         ls.desc.raycast.shadows = false;
         let r = ray_image(&ls, Sampling::EVERY_PIXEL).unwrap();
         let c = compare(&raster.image, &r.image).unwrap();

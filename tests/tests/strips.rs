@@ -12,20 +12,21 @@ use fixshade::raster::span::{Classic, DepthTest, Gradient, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::Gouraud;
 use fixshade::target::{Framebuffer, Rgb888, Strip};
-use fixshade_sim::desc::{ShadingName, SpanName};
-use fixshade_sim::pipeline::{self, load_arg};
+use fixshade_sim::render;
+use fixshade_sim::scene::desc::{ShadingName, SpanName};
+use fixshade_sim::scene::load::load_arg;
 use fixshade_tests::*;
 
 #[test]
 fn figures_strips_equal_whole_frame() {
     for name in FIGURES {
         let mut ls = load_arg(name).unwrap();
-        for span in [SpanName::Gradient, SpanName::Classic] {
+        for span in [SpanName::GRADIENT, SpanName::CLASSIC] {
             ls.desc.span = span;
-            let whole = pipeline::render(&ls, None).unwrap();
+            let whole = render::render(&ls, None).unwrap();
             assert!(whole.image.covered_count() > 5000);
             for rows in [1, 7, 16, 240] {
-                let strips = pipeline::render(&ls, Some(rows)).unwrap();
+                let strips = render::render(&ls, Some(rows)).unwrap();
                 let differ = whole
                     .bytes
                     .iter()
@@ -52,16 +53,16 @@ fn bench_sphere_640_strips_equal_whole_frame() {
     ls.desc.width = 640;
     ls.desc.height = 480;
     for (span, shading) in [
-        (SpanName::Classic, ShadingName::Gouraud),
-        (SpanName::Gradient, ShadingName::Gouraud),
-        (SpanName::Sierpinski, ShadingName::Gouraud),
-        (SpanName::Gradient, ShadingName::Phong),
+        (SpanName::CLASSIC, ShadingName::GOURAUD),
+        (SpanName::GRADIENT, ShadingName::GOURAUD),
+        (SpanName::named("sierpinski"), ShadingName::GOURAUD),
+        (SpanName::GRADIENT, ShadingName::PHONG),
     ] {
         ls.desc.span = span;
         ls.desc.shading = shading;
-        let whole = pipeline::render(&ls, None).unwrap();
+        let whole = render::render(&ls, None).unwrap();
         for rows in [1, 2, 3] {
-            let strips = pipeline::render(&ls, Some(rows)).unwrap();
+            let strips = render::render(&ls, Some(rows)).unwrap();
             assert!(
                 whole.bytes == strips.bytes,
                 "{span:?} {shading:?}: strips of {rows} rows differ from the whole frame"

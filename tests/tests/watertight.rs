@@ -34,9 +34,9 @@ use fixshade::raster::{draw_triangle, GUARD};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::shade::Flat;
 use fixshade::target::Strip;
-use fixshade_sim::convert::{core_scene, quantize_mesh, FixedMesh};
-use fixshade_sim::desc::{MeshData, SceneDesc};
-use fixshade_sim::pipeline::{load_arg, LoadedScene};
+use fixshade_sim::scene::convert::{core_scene, quantize_mesh, FixedMesh};
+use fixshade_sim::scene::desc::{MeshData, SceneDesc};
+use fixshade_sim::scene::load::{load_arg, LoadedScene};
 use fixshade_tests::*;
 
 /// Draws `tris` (Q12.4) with span method `S` into a counting strip covering `win`
@@ -728,7 +728,7 @@ fn big_sphere(width: u32, height: u32) -> MeshCase {
     MeshCase {
         name: format!("sphere 128x80 at {width}x{height}"),
         desc,
-        meshes: vec![quantize_mesh(&fixshade_sim::mesh::sphere(128, 80))],
+        meshes: vec![quantize_mesh(&fixshade_sim::scene::mesh::sphere(128, 80))],
     }
 }
 
@@ -968,7 +968,7 @@ fn pipeline_sphere_is_closed_and_watertight() {
         .collect();
     let mut ls = load_arg("sphere").unwrap();
     ls.name = "sphere 128x80".into();
-    let m = quantize_mesh(&fixshade_sim::mesh::sphere(128, 80));
+    let m = quantize_mesh(&fixshade_sim::scene::mesh::sphere(128, 80));
     ls.fixed = vec![FixedMesh::from_mesh(&m).unwrap()];
     ls.meshes = vec![m];
     scenes.push(ls);
@@ -987,7 +987,7 @@ fn pipeline_sphere_is_closed_and_watertight() {
 fn random_sphere_scene(rng: &mut Rng, inside: bool) -> (SceneDesc, Vec<FixedMesh>, String) {
     let mut d = load_arg("sphere").unwrap().desc;
     let (lon, lat) = (rng.int(4, 24) as u32, rng.int(3, 16) as u32);
-    let m = quantize_mesh(&fixshade_sim::mesh::sphere(lon, lat));
+    let m = quantize_mesh(&fixshade_sim::scene::mesh::sphere(lon, lat));
     let fixed = vec![FixedMesh::from_mesh(&m).unwrap()];
     let mut r = |s: f64| rng.int(-1000, 1000) as f64 / 1000.0 * s;
     let fovy;
@@ -1011,14 +1011,14 @@ fn random_sphere_scene(rng: &mut Rng, inside: bool) -> (SceneDesc, Vec<FixedMesh
         fovy = 1.0 + (r(1.0) + 1.0) * 8.0;
     }
     d.camera.up = [r(1.0), 1.0, r(1.0)];
-    d.camera.projection = fixshade_sim::desc::Projection::Perspective {
+    d.camera.projection = fixshade_sim::scene::desc::Projection::Perspective {
         fovy_deg: fovy,
         near: 0.05,
         far: 20.0,
     };
     d.objects[0].translate = [0.0; 3];
     d.objects[0].rotate_deg = [r(180.0), r(180.0), r(180.0)];
-    let d = fixshade_sim::convert::quantize_scene(&d);
+    let d = fixshade_sim::scene::convert::quantize_scene(&d);
     let name = format!(
         "sphere {lon}x{lat}, eye {:?}, target {:?}, fovy {fovy:.1}",
         d.camera.eye, d.camera.target

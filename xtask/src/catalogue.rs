@@ -1,6 +1,7 @@
-//! The host side of the catalogue images: draws every case of the baked triangle
-//! catalogue (the same file the firmware includes) with every span method and mode,
-//! as `fixshade_boards_common::catalogue` does on the MCU, and compares the bytes.
+//! The host side of the catalogue images: draws every case of the triangle catalogue
+//! (tests/catalogue/triangles.toml, which `cargo xtask bake` bakes for the firmware)
+//! with every span method and mode, as `fixshade_boards_common::catalogue` does on
+//! the MCU, and compares the bytes.
 
 use std::path::Path;
 
@@ -8,15 +9,9 @@ use fixshade::raster::span::{DepthTest, NoDepth};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::{Flat, Gouraud};
 use fixshade::target::{PixelFormat, Rgb888, Strip};
-use fixshade_sim::desc::{Named, SpanName};
+use fixshade_sim::scene::desc::{Named, SpanName};
 use fixshade_sim::with_span_method;
-
-/// The baked catalogue (generated from tests/catalogue/triangles.toml; the test
-/// `baked_triangle_catalogue_is_current` keeps it current).
-#[rustfmt::skip]
-#[path = "../../boards/baked/catalogue/triangles.rs"]
-#[allow(dead_code)]
-pub mod baked;
+use fixshade_tests::catalogue::{triangle_cases, TriCase};
 
 /// The modes in the firmware's order: (flat, depth).
 const MODES: [(bool, bool); 4] = [(true, false), (true, true), (false, false), (false, true)];
@@ -25,9 +20,12 @@ const MODES: [(bool, bool); 4] = [(true, false), (true, true), (false, false), (
 const BACKGROUND: [u32; 3] = [7, 77, 177];
 
 /// Colour and depth streams of one case, as the firmware writes them.
-pub fn host_case(case: &baked::TriCase) -> Result<(Vec<u8>, Vec<u8>), String> {
+pub fn host_case(case: &TriCase) -> Result<(Vec<u8>, Vec<u8>), String> {
+    let (width, height) = (case.frame[0], case.frame[1]);
+    let (y0, rows) = case.strip();
+    let tris = case.triangles();
     let (mut col, mut dep) = (Vec::new(), Vec::new());
-    let n = case.width as usize * case.rows as usize;
+    let n = width as usize * rows as usize;
     for (span, _) in SpanName::ALL {
         for (flat, with_depth) in MODES {
             let mut c = vec![[0u8; 3]; n];
@@ -35,14 +33,14 @@ pub fn host_case(case: &baked::TriCase) -> Result<(Vec<u8>, Vec<u8>), String> {
             let mut s = Strip::<Rgb888>::new(
                 &mut c,
                 with_depth.then_some(&mut d[..]),
-                case.width,
-                case.height,
-                case.y0,
-                case.rows,
+                width,
+                height,
+                y0,
+                rows,
             )
             .map_err(|e| format!("{}: {e}", case.name))?;
             s.clear(Rgb888::pack(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2]));
-            for t in case.tris {
+            for t in &tris {
                 let t = if flat {
                     let pc = t[2].c;
                     t.map(|v| ScreenVertex { c: pc, ..v })
@@ -92,6 +90,7 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
     if have != want {
         return Err(format!("firmware method order {have:?}, host {want:?}"));
     }
+    let cases = triangle_cases();
     let (mut frames, mut bad, mut rows, mut skipped) = (0, Vec::new(), Vec::new(), Vec::new());
     for line in log.lines() {
         if let Some(rest) = line.strip_prefix("TRISKIP ") {
@@ -105,7 +104,7 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
         let [board, name, ..] = f.as_slice() else {
             return Err(format!("bad line: {line}"));
         };
-        let case = baked::CASES
+        let case = cases
             .iter()
             .find(|c| c.name == *name)
             .ok_or_else(|| format!("unknown case {name}"))?;

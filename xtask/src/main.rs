@@ -3,7 +3,9 @@
 
 use std::process::{Command, ExitCode};
 
+mod bake;
 mod catalogue;
+mod cycles;
 mod qemu;
 mod raybake;
 mod scenes;
@@ -97,16 +99,16 @@ fn fuzz_build() -> Result<(), String> {
 
 const USAGE: &str = "usage: cargo xtask test    (every test, no_std builds for thumbv6m and thumbv7em, docs, qemu, fuzz builds)
        cargo xtask qemu    (firmware on QEMU Cortex-M0 and M4: frames compared with the host, instruction table)
-       cargo xtask bake-ray (writes boards/baked/ray/: the ray-cast scenes of the Cortex-M4 image)
-       cargo xtask bake-scenes (writes boards/baked/scenes/: the whole-pipeline hard cases of the scene images)";
+       cargo xtask bake    (writes boards/baked/: the scenes, meshes and catalogues the firmware includes)
+       cargo xtask cycles [DIR...] (the module import cycles of each source directory; default crates/sim-host/src)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("test") => test(),
         Some("qemu") => qemu::qemu(),
-        Some("bake-ray") => raybake::sync(&qemu::root(), true).map(|_| ()),
-        Some("bake-scenes") => scenes::bake(&qemu::root()),
+        Some("bake") => bake::run(&qemu::root()),
+        Some("cycles") => cycles::run(&qemu::root(), &args[1..]),
         Some("help") | Some("--help") | None => {
             eprintln!("{USAGE}");
             return ExitCode::SUCCESS;

@@ -17,8 +17,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use fixshade_sim::bake::render_chunked;
-use fixshade_sim::pipeline::{self, LoadedScene};
+use fixshade_sim::render;
+use fixshade_sim::render::render_chunked;
+use fixshade_sim::scene::load;
+use fixshade_sim::scene::load::LoadedScene;
 
 mod dividers;
 mod helpers;
@@ -421,7 +423,7 @@ fn host_frame(
     if !scenes.contains_key(figure) {
         scenes.insert(
             figure.to_string(),
-            pipeline::load_arg(&perspective::source(figure))?,
+            load::load_arg(&perspective::source(figure))?,
         );
     }
     let mut ls = scenes[figure].clone();
@@ -431,7 +433,7 @@ fn host_frame(
         dividers::apply(&mut ls.desc, case)?;
     }
     match cut {
-        None => Ok(pipeline::render(&ls, None)?.bytes),
+        None => Ok(render::render(&ls, None)?.bytes),
         Some((rows, chunk)) => render_chunked(&ls, chunk, rows),
     }
 }
@@ -470,14 +472,7 @@ pub fn root() -> PathBuf {
 pub fn qemu() -> Result<(), String> {
     let ci = std::env::var("CI").is_ok_and(|v| v == "true");
     let root = root();
-    let stale = crate::raybake::sync(&root, false)?;
-    if !stale.is_empty() {
-        return Err(format!(
-            "stale baked ray scenes (regenerate with `cargo xtask bake-ray`): {}",
-            stale.join(", ")
-        ));
-    }
-    crate::scenes::check_baked(&root)?;
+    crate::bake::run(&root)?;
     let status = Command::new("rustup")
         .args([
             "target",
@@ -566,10 +561,10 @@ pub fn qemu() -> Result<(), String> {
                 };
                 let file = out_dir.join(format!("ray-{name}.rgb565"));
                 let mcu = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
-                let mut ls = pipeline::load_arg(name)?;
+                let mut ls = load::load_arg(name)?;
                 ls.desc.width = w.parse().map_err(|_| format!("bad line: {line}"))?;
                 ls.desc.height = h.parse().map_err(|_| format!("bad line: {line}"))?;
-                let host = fixshade_sim::raycast::render(&ls)?.bytes;
+                let host = fixshade_sim::render::raycast::render(&ls)?.bytes;
                 checked += 1;
                 ray_frames += 1;
                 if mcu != host {
@@ -742,7 +737,7 @@ fn ray_table(frames: usize, rows: &[String]) -> String {
         "\n## Ray caster\n\n\
          `fixshade render --shading raycast` of the built-in scenes at a small size, with their\n\
          own sampling (segment L, threshold K in Q8 8-bit levels; the exact Blinn specular),\n\
-         baked by `cargo xtask bake-ray`; {frames} frames, each identical to the host's bytes.\n\
+         baked by `cargo xtask bake`; {frames} frames, each identical to the host's bytes.\n\
          `prepare` is `Caster::prepare`, `sampling` the rows (`fill_row`, every ray cast in it).\n\n\
          | board | scene | width | height | L | K (Q8) | evaluations | prepare | sampling | per evaluation |\n\
          | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"

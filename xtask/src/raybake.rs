@@ -1,15 +1,12 @@
 //! Ray-cast scenes baked for the Cortex-M4 image (`boards/baked/ray/`): the scene as
 //! `fixshade bake` writes it, plus the ray caster's analytic spheres and planes and
-//! the scene's sampling (segment L, threshold K in Q8, shadows). `cargo xtask
-//! bake-ray` writes them; `cargo xtask qemu` fails when they are stale.
+//! the scene's sampling (segment L, threshold K in Q8, shadows). `cargo xtask bake`
+//! writes them.
 
-use std::path::Path;
-
-use fixshade::fixed::Q16_16;
-use fixshade_sim::convert::q16;
-use fixshade_sim::desc::MaterialDesc;
-use fixshade_sim::pipeline;
-use fixshade_sim::raycast::threshold_q8;
+use fixshade_sim::render::bake;
+use fixshade_sim::scene::convert::{self, q16, threshold_q8};
+use fixshade_sim::scene::desc::MaterialDesc;
+use fixshade_sim::scene::load;
 
 /// (file under boards/baked/ray, built-in scene).
 pub const RAY_SCENES: &[(&str, &str)] = &[
@@ -17,33 +14,22 @@ pub const RAY_SCENES: &[(&str, &str)] = &[
     ("sphere.rs", "sphere"),
 ];
 
-fn q(v: f64) -> String {
-    format!("q({})", Q16_16::to_bits(q16(v)))
-}
-
 fn v3(v: &[f64; 3]) -> String {
-    format!("[{}, {}, {}]", q(v[0]), q(v[1]), q(v[2]))
+    bake::v3(&v.map(q16))
 }
 
 fn material(m: &MaterialDesc) -> String {
-    format!(
-        "Material {{ emission: {}, ambient: {}, diffuse: {}, specular: {}, shininess: {} }}",
-        v3(&m.emission),
-        v3(&m.ambient),
-        v3(&m.diffuse),
-        v3(&m.specular),
-        q(m.shininess)
-    )
+    bake::material_src(&convert::material(m))
 }
 
 /// The source of one baked ray scene.
 pub fn bake_ray(scene: &str) -> Result<String, String> {
-    let command = format!("cargo xtask bake-ray ({scene})");
-    let mut s = fixshade_sim::bake::bake(scene, None, &command)?.source;
-    let ls = pipeline::load_arg(scene)?;
+    let command = format!("cargo xtask bake ({scene})");
+    let mut s = fixshade_sim::render::bake::bake(scene, None, &command)?.source;
+    let ls = load::load_arg(scene)?;
     let r = &ls.desc.raycast;
     s.push_str(&format!(
-        "\n// The ray caster's part of the scene (added by `cargo xtask bake-ray`).\n\n\
+        "\n// The ray caster's part of the scene (added by `cargo xtask bake`).\n\n\
          use fixshade::raycast::{{Plane, Sphere}};\n\n\
          /// Segment length L of the scene's sampling.\n\
          pub const SEGMENT: u32 = {};\n\
@@ -63,7 +49,7 @@ pub fn bake_ray(scene: &str) -> Result<String, String> {
         s.push_str(&format!(
             "    Sphere {{ centre: {}, radius: {}, material: {} }},\n",
             v3(&sp.centre),
-            q(sp.radius),
+            bake::q(q16(sp.radius)),
             material(&sp.material)
         ));
     }
@@ -81,21 +67,4 @@ pub fn bake_ray(scene: &str) -> Result<String, String> {
     }
     s.push_str("];\n");
     Ok(s)
-}
-
-/// Writes (`write`) or checks every baked ray scene; returns the stale files.
-pub fn sync(root: &Path, write: bool) -> Result<Vec<String>, String> {
-    let dir = root.join("boards/baked/ray");
-    let mut stale = Vec::new();
-    for (file, scene) in RAY_SCENES {
-        let src = bake_ray(scene)?;
-        let path = dir.join(file);
-        if write {
-            std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-            std::fs::write(&path, &src).map_err(|e| format!("{}: {e}", path.display()))?;
-        } else if std::fs::read_to_string(&path).unwrap_or_default() != src {
-            stale.push(path.display().to_string());
-        }
-    }
-    Ok(stale)
 }

@@ -1,8 +1,8 @@
 //! The whole-pipeline hard cases (tests/catalogue/scenes.toml) on QEMU: `cargo xtask
-//! bake-scenes` writes them to boards/baked/scenes/ (`fixshade_tests::scenes`), and
+//! bake` writes them to boards/baked/scenes/ (`fixshade_tests::scenes`), and
 //! `cargo xtask qemu` runs the scene images (boards/*/src/bin/scenes.rs) and compares
 //! every frame they write with the host render of the same case, span method,
-//! shading and strip/chunk layout: [`pipeline::render`] for whole frames, and for the
+//! shading and strip/chunk layout: [`render::render`] for whole frames, and for the
 //! Cortex-M0's strips and chunks [`host_chunked`], which draws as that image does.
 
 use std::collections::HashMap;
@@ -11,36 +11,13 @@ use std::path::Path;
 
 use fixshade::render::{Frame, XfVertex};
 use fixshade::target::{PixelFormat, Rgb565Le, Strip};
-use fixshade_sim::bake::chunks;
-use fixshade_sim::convert::{core_scene, FixedMesh};
-use fixshade_sim::desc::{FormatName, Named, ShadingName, SpanName};
-use fixshade_sim::pipeline::{self, background_channels, LoadedScene};
+use fixshade_sim::render;
+use fixshade_sim::render::bake::chunks;
+use fixshade_sim::scene::convert::background_channels;
+use fixshade_sim::scene::convert::{core_scene, FixedMesh};
+use fixshade_sim::scene::desc::{FormatName, Named, ShadingName, SpanName};
+use fixshade_sim::scene::load::LoadedScene;
 use fixshade_tests::catalogue::scene_cases;
-
-/// `cargo xtask bake-scenes`.
-pub fn bake(root: &Path) -> Result<(), String> {
-    for p in fixshade_tests::scenes::write(&baked_dir(root))? {
-        eprintln!("xtask: wrote {p}");
-    }
-    Ok(())
-}
-
-fn baked_dir(root: &Path) -> std::path::PathBuf {
-    root.join("boards/baked/scenes")
-}
-
-/// Fails when boards/baked/scenes/ is not what `cargo xtask bake-scenes` writes.
-pub fn check_baked(root: &Path) -> Result<(), String> {
-    let stale = fixshade_tests::scenes::stale(&baked_dir(root))?;
-    if stale.is_empty() {
-        Ok(())
-    } else {
-        Err(format!(
-            "stale baked scene cases (regenerate with `cargo xtask bake-scenes`): {}",
-            stale.join(", ")
-        ))
-    }
-}
 
 /// The frame a board that keeps neither the frame nor a whole mesh in RAM draws:
 /// strip by strip (`rows` rows each), and per strip object by object and chunk by
@@ -48,10 +25,10 @@ pub fn check_baked(root: &Path) -> Result<(), String> {
 /// vertex stage in a scene holding that object alone. Rgb565 little-endian bytes.
 pub fn host_chunked(ls: &LoadedScene, limit: usize, rows: u32) -> Result<Vec<u8>, String> {
     let d = &ls.desc;
-    if d.format != FormatName::Rgb565Le {
+    if d.format != FormatName::RGB565LE {
         return Err(format!("{}: the scene images draw rgb565le only", ls.name));
     }
-    if d.perspective_correct && d.shading == ShadingName::Gouraud {
+    if d.perspective_correct && d.shading == ShadingName::GOURAUD {
         return Err(format!(
             "{}: the strip-and-chunk scene images draw no perspective-correct frames",
             ls.name
@@ -231,13 +208,13 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
             // `fixshade render --perspective on --perspective-span N` (coverage of
             // `gradient`, the scene's divider).
             Some(n) => {
-                ls.desc.span = SpanName::Gradient;
+                ls.desc.span = SpanName::GRADIENT;
                 ls.desc.perspective_correct = true;
                 ls.desc.perspective_span = n;
             }
             None => ls.desc.span = SpanName::parse(&r.span)?,
         }
-        let whole = pipeline::render(&ls, None)?.bytes;
+        let whole = render::render(&ls, None)?.bytes;
         let host = if r.chunk == 0 && r.rows == 0 {
             whole
         } else {
@@ -363,7 +340,7 @@ pub fn finish(c: &Checked) -> Result<String, String> {
                 && PERSPECTIVE_BOARDS.contains(board)
                 && matches!(
                     case.load()?.desc.camera.projection,
-                    fixshade_sim::desc::Projection::Perspective { .. }
+                    fixshade_sim::scene::desc::Projection::Perspective { .. }
                 );
             for span in PERSPECTIVE_SPANS.iter().filter(|_| perspective_camera) {
                 let have = c.seen.iter().any(|(b, n, sh, sp)| {
@@ -411,14 +388,14 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
     let mut md = format!(
         "\n## Whole-pipeline hard cases\n\n\
          Every case of tests/catalogue/scenes.toml (baked into boards/baked/scenes/ by\n\
-         `cargo xtask bake-scenes`) rendered by the scene images with every span method in\n\
+         `cargo xtask bake`) rendered by the scene images with every span method in\n\
          flat and Gouraud shading (and on the Cortex-M4 once more in quadratic, Phong,\n\
          Phong even/odd and adaptive shading, whose fills ignore the span method; and for\n\
          the cases with a perspective camera in Gouraud shading with perspective-correct\n\
          colours, `Frame::draw_perspective` with `exact` at every pixel and per 16 pixels,\n\
          spans `perspective-1` and `perspective-16`) and compared byte for byte with the host render of the same case, method, shading and\n\
          layout: {frames} frames, all identical. The Cortex-M4 draws whole frames from whole\n\
-         meshes (compared with `pipeline::render`); the Cortex-M0 draws strips of `strip rows`\n\
+         meshes (compared with `render::render`); the Cortex-M0 draws strips of `strip rows`\n\
          rows and meshes in chunks of at most `chunk` vertices (compared with the host\n\
          drawing the same strips and chunks; each Cortex-M0 image holds one shading mode and\n\
          half of the meshes, see boards/qemu-microbit/src/bin/scenes.rs). `pixels` and\n\

@@ -7,9 +7,7 @@
 //! height the board's RAM allows, so `cargo xtask qemu` compares them byte for byte
 //! with the host drawing the case's rows at once.
 
-use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
-use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
-use fixshade::raster::span::{Classic, DepthMode, DepthTest, Gradient, NoDepth, SpanMethod};
+use fixshade::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::shade::{Flat, Gouraud, Shading};
 use fixshade::target::{PixelFormat, Rgb888, Strip};
@@ -46,8 +44,8 @@ pub const MODES: [(&str, bool, bool); 4] = [
 ];
 
 macro_rules! methods {
-    ($($name:literal => $S:ty),* $(,)?) => {
-        [$(($name, [
+    ([] $($S:ty),* $(,)?) => {
+        [$((<$S as SpanMethod>::NAME, [
             tri::<$S, NoDepth, Flat> as TriFn,
             tri::<$S, DepthTest, Flat> as TriFn,
             tri::<$S, NoDepth, Gouraud> as TriFn,
@@ -56,26 +54,10 @@ macro_rules! methods {
     };
 }
 
-/// Every span method in the host's order (`fixshade list`), with one function per
-/// mode of [`MODES`].
+/// Every span method in the host's order (`fixshade list`, the core's registry),
+/// with one function per mode of [`MODES`].
 pub fn methods() -> [(&'static str, [TriFn; 4]); crate::CASES] {
-    methods!(
-        "classic" => Classic,
-        "gradient" => Gradient,
-        "even-odd" => EvenOdd,
-        "kway2" => KWay<2>,
-        "kway3" => KWay<3>,
-        "kway4" => KWay<4>,
-        "counter" => CounterSpan,
-        "segment2" => Segment<2>,
-        "segment4" => Segment<4>,
-        "segment8" => Segment<8>,
-        "segment16" => Segment<16>,
-        "segment32" => Segment<32>,
-        "segment64" => Segment<64>,
-        "sierpinski" => Sierpinski,
-        "sierpinski-exact" => SierpinskiExact,
-    )
+    fixshade::for_each_span_method!(methods)
 }
 
 /// Where the drawn rows go: two streams per case, colour bytes and depth bytes

@@ -24,9 +24,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use fixshade::divide::{Divide, Exact, ShiftAdd, ShiftAddRounded, Table};
-use fixshade::raster::parallel::{Counter as CounterSpan, EvenOdd, KWay, Segment};
 use fixshade::raster::perspective::Perspective;
-use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
 use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats};
 use fixshade::shade::Shading;
@@ -276,38 +274,63 @@ fn entry<S: SpanMethod, M: Mode, P: PixelFormat, T: Target<P>>(
     M::run::<S, P, T>(f, t)
 }
 
-/// Number of cases in [`cases`].
-pub const CASES: usize = 15;
+/// Number of cases in [`cases`]: every span method of the core's registry.
+pub const CASES: usize = fixshade::registry::SPAN_METHODS.len();
 
-/// The axes every frame is drawn over, as one table: each entry names the case as
-/// the host does (`fixshade render --span NAME`) and draws it. A new axis (a divider,
-/// a specular model) becomes one more type parameter of `entry` and one more line per
-/// variant here.
+/// The span methods of a registry list (`fixshade::for_each_span_method!`) as
+/// cases: each named as the host names it (`fixshade render --span NAME`) and drawn
+/// by `entry` with the mode `M`.
 macro_rules! cases {
-    ($M:ty, $P:ty, $T:ty; $($name:literal => $S:ty),* $(,)?) => {
-        [$(($name, entry::<$S, $M, $P, $T> as DrawFn<$P, $T>)),*]
+    ([$M:ty, $P:ty, $T:ty] $($S:ty),* $(,)?) => {
+        [$((<$S as SpanMethod>::NAME, entry::<$S, $M, $P, $T> as DrawFn<$P, $T>)),*]
+    };
+}
+
+/// The first `$n` (unary, one `x` each) entries of a registry list, then `$cb!`.
+macro_rules! take {
+    ([$cb:ident [$($a:tt)*] [$($n:tt)*] $($acc:ty,)*] $($S:ty),* $(,)?) => {
+        take!(@go $cb [$($a)*] [$($n)*] [$($acc,)*] $($S,)*)
+    };
+    (@go $cb:ident [$($a:tt)*] [] [$($acc:ty,)*] $($rest:ty,)*) => {
+        $cb!([$($a)*] $($acc),*)
+    };
+    (@go $cb:ident [$($a:tt)*] [x $($n:tt)*] [$($acc:ty,)*] $S:ty, $($rest:ty,)*) => {
+        take!(@go $cb [$($a)*] [$($n)*] [$($acc,)* $S,] $($rest,)*)
+    };
+}
+
+/// The entries of a registry list after the first `$n` (unary), then `$cb!`.
+macro_rules! skip {
+    ([$cb:ident [$($a:tt)*] [$($n:tt)*]] $($S:ty),* $(,)?) => {
+        skip!(@go $cb [$($a)*] [$($n)*] $($S,)*)
+    };
+    (@go $cb:ident [$($a:tt)*] [] $($rest:ty,)*) => {
+        $cb!([$($a)*] $($rest),*)
+    };
+    (@go $cb:ident [$($a:tt)*] [x $($n:tt)*] $S:ty, $($rest:ty,)*) => {
+        skip!(@go $cb [$($a)*] [$($n)*] $($rest,)*)
     };
 }
 
 /// Every span method, in the host's order (`fixshade list`), drawn by `M`.
 pub fn cases<M: Mode, P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<P, T>); CASES] {
-    cases!(M, P, T;
-        "classic" => Classic,
-        "gradient" => Gradient,
-        "even-odd" => EvenOdd,
-        "kway2" => KWay<2>,
-        "kway3" => KWay<3>,
-        "kway4" => KWay<4>,
-        "counter" => CounterSpan,
-        "segment2" => Segment<2>,
-        "segment4" => Segment<4>,
-        "segment8" => Segment<8>,
-        "segment16" => Segment<16>,
-        "segment32" => Segment<32>,
-        "segment64" => Segment<64>,
-        "sierpinski" => Sierpinski,
-        "sierpinski-exact" => SierpinskiExact,
-    )
+    fixshade::for_each_span_method!(cases[M, P, T])
+}
+
+/// Span methods in [`cases_first`] (the rest are in [`cases_rest`]).
+pub const FIRST_CASES: usize = 8;
+
+/// The first [`FIRST_CASES`] span methods of [`cases`]: for an image whose flash
+/// holds the code of about half of them.
+pub fn cases_first<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); FIRST_CASES] {
+    fixshade::for_each_span_method!(take[cases [M, P, T] [x x x x x x x x]])
+}
+
+/// The span methods of [`cases`] after the first [`FIRST_CASES`].
+pub fn cases_rest<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); CASES - FIRST_CASES] {
+    fixshade::for_each_span_method!(skip[cases [M, P, T] [x x x x x x x x]])
 }
 
 /// Number of cases in [`divider_cases`].

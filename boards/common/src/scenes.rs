@@ -1,5 +1,5 @@
 //! The whole-pipeline hard cases (`tests/catalogue/scenes.toml`, baked into
-//! `boards/baked/scenes/` by `cargo xtask bake-scenes`) on the MCU: what the scene
+//! `boards/baked/scenes/` by `cargo xtask bake`) on the MCU: what the scene
 //! images of the boards share. Each image renders every case it holds with every
 //! span method and shading mode it carries, writes each frame (Rgb565 little-endian
 //! bytes) to the host file `<case>-<shading>-<span>.rgb565` through semihosting and

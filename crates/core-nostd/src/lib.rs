@@ -51,6 +51,7 @@ pub mod math;
 pub mod prelude;
 pub mod raster;
 pub mod raycast;
+pub mod registry;
 pub mod render;
 pub mod renderer;
 pub mod sampler;

@@ -36,10 +36,10 @@ use fixshade::fixed::Angle;
 use fixshade::raster::span::{Classic, Gradient, SpanMethod};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::target::{Framebuffer, Rgb565Le};
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::desc::MeshSource;
-use fixshade_sim::pipeline::{load, LoadedScene};
-use fixshade_sim::scene_file::builtin_scene;
+use fixshade_sim::scene::builtin;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::desc::MeshSource;
+use fixshade_sim::scene::load::{load, LoadedScene};
 
 fn main() {
     divan::main();
@@ -94,7 +94,7 @@ fn prepared(cfg: Config) -> Arc<Prepared> {
 }
 
 fn prepare(cfg: Config) -> Prepared {
-    let mut d = builtin_scene("bench-sphere").expect("built-in scene bench-sphere");
+    let mut d = builtin::scene("bench-sphere").expect("built-in scene bench-sphere");
     d.width = cfg.w;
     d.height = cfg.h;
     d.objects[0].mesh = MeshSource::Sphere {

@@ -1,14 +1,18 @@
 //! The sphere benchmark as a table: per configuration and span method, the median
 //! time of one frame, covered pixels per frame, the cost per covered pixel and per
 //! submitted triangle, and each method's time relative to `classic` and to
-//! `gradient`. The quadratic surface and the two Phong fills (which ignore the span
-//! method) are rows of their own, run with the scene's shading switched.
+//! `gradient`. The rows are the core's registry: every span method with Gouraud
+//! shading, then the shadings with fills of their own (quadratic, the two Phong
+//! fills, adaptive), run with the scene's shading switched.
 //!
-//! Same scene and timed part as `benches/bench_sphere.rs`: the built-in scene
-//! "bench-sphere" with segments 32×20, 64×40, 128×80 at 320×240 and 640×480; one
-//! frame = `Frame::prepare` + `Frame::draw`; the depth buffer is reset to 0xFFFF
-//! before each frame, outside the timed part; the sphere turns about y by 7° from
-//! one round to the next.
+//! The scene of `benches/bench_sphere.rs`: the built-in scene "bench-sphere" with
+//! segments 32×20, 64×40, 128×80 at 320×240 and 640×480. One frame is what the
+//! simulator runs for `fixshade render` and the report: the vertex stage and the
+//! draw of the core (`Frame::prepare_with`, `Frame::draw_with`), chosen once per
+//! row by the simulator's dispatch (`fixshade_sim::render::Pipeline`), into an
+//! Rgb565 frame that records coverage; the depth buffer is reset to 0xFFFF before
+//! each frame, outside the timed part; the sphere turns about y by 7° from one round
+//! to the next.
 //!
 //! The methods are interleaved: every round draws the same angle once with each
 //! method, starting with a different method each round (AB, BA, AB, … for two), so
@@ -34,86 +38,36 @@
 use std::path::Path;
 use std::time::Instant;
 
+use fixshade::eg::CoveredPixel;
 use fixshade::fixed::Angle;
-use fixshade::raster::parallel::{Counter, EvenOdd, KWay, Segment};
-use fixshade::raster::sierpinski::{Sierpinski, SierpinskiExact};
-use fixshade::raster::span::{Classic, Gradient, SpanMethod};
-use fixshade::render::{Frame, Stats, XfVertex};
-use fixshade::scene::{Scene, ShadingMode};
-use fixshade::target::{Framebuffer, Rgb565Le};
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::desc::MeshSource;
-use fixshade_sim::pipeline::load;
-use fixshade_sim::scene_file::builtin_scene;
+use fixshade::target::Strip;
+use fixshade_sim::render::{host::HostSpecular, Pipeline};
+use fixshade_sim::scene::builtin;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::desc::{MeshSource, Named, SceneDesc, ShadingName, SpanName};
+use fixshade_sim::scene::load::load;
 
-/// One timed frame: vertex stage + rasterization into `fb`.
-type FrameFn = fn(&Scene<'_>, &mut [XfVertex], &mut Framebuffer<'_, Rgb565Le>) -> Stats;
+/// The pipeline of one row: the simulator's dispatch for the scene (Rgb565Le, the
+/// exact specular term of the scene, run-time chosen as `fixshade render` does).
+type Row = Pipeline<fixshade::target::Rgb565Le, HostSpecular>;
 
-fn frame<S: SpanMethod>(
-    scene: &Scene<'_>,
-    cache: &mut [XfVertex],
-    fb: &mut Framebuffer<'_, Rgb565Le>,
-) -> Stats {
-    use fixshade::target::Target;
-    let (w, h) = (fb.width(), fb.frame_height());
-    let f = Frame::<Rgb565Le>::prepare(scene, w, h, cache).expect("prepare");
-    f.draw::<S, _>(fb).expect("draw")
+/// The rows compared, as (name, span method, shading); the first two are the
+/// baselines of the ratio columns: every span method of the core's registry with
+/// Gouraud shading, then every shading mode with a fill of its own (which ignore the
+/// span method), with `gradient`.
+fn methods() -> Vec<(&'static str, SpanName, ShadingName)> {
+    let mut rows: Vec<_> = SpanName::ALL
+        .iter()
+        .map(|&(s, name)| (name, s, ShadingName::GOURAUD))
+        .collect();
+    rows.extend(
+        ShadingName::ALL
+            .iter()
+            .filter(|(sh, _)| sh.own_fill())
+            .map(|&(sh, name)| (name, SpanName::GRADIENT, sh)),
+    );
+    rows
 }
-
-/// The methods compared, with the shading each runs under; the first two are the
-/// baselines of the ratio columns. To add a method, add a line.
-const METHODS: &[(&str, FrameFn, ShadingMode)] = &[
-    (<Classic>::NAME, frame::<Classic>, ShadingMode::Gouraud),
-    (Gradient::NAME, frame::<Gradient>, ShadingMode::Gouraud),
-    (EvenOdd::NAME, frame::<EvenOdd>, ShadingMode::Gouraud),
-    (KWay::<2>::NAME, frame::<KWay<2>>, ShadingMode::Gouraud),
-    (KWay::<3>::NAME, frame::<KWay<3>>, ShadingMode::Gouraud),
-    (KWay::<4>::NAME, frame::<KWay<4>>, ShadingMode::Gouraud),
-    (Counter::NAME, frame::<Counter>, ShadingMode::Gouraud),
-    (
-        Segment::<2>::NAME,
-        frame::<Segment<2>>,
-        ShadingMode::Gouraud,
-    ),
-    (
-        Segment::<4>::NAME,
-        frame::<Segment<4>>,
-        ShadingMode::Gouraud,
-    ),
-    (
-        Segment::<8>::NAME,
-        frame::<Segment<8>>,
-        ShadingMode::Gouraud,
-    ),
-    (
-        Segment::<16>::NAME,
-        frame::<Segment<16>>,
-        ShadingMode::Gouraud,
-    ),
-    (
-        Segment::<32>::NAME,
-        frame::<Segment<32>>,
-        ShadingMode::Gouraud,
-    ),
-    (
-        Segment::<64>::NAME,
-        frame::<Segment<64>>,
-        ShadingMode::Gouraud,
-    ),
-    (Sierpinski::NAME, frame::<Sierpinski>, ShadingMode::Gouraud),
-    (
-        SierpinskiExact::NAME,
-        frame::<SierpinskiExact>,
-        ShadingMode::Gouraud,
-    ),
-    ("quadratic", frame::<Gradient>, ShadingMode::Quadratic),
-    ("phong", frame::<Gradient>, ShadingMode::Phong),
-    (
-        "phong-even-odd",
-        frame::<Gradient>,
-        ShadingMode::PhongEvenOdd,
-    ),
-];
 
 const SEGMENTS: [(u32, u32); 3] = [(32, 20), (64, 40), (128, 80)];
 const SIZES: [(u32, u32); 2] = [(320, 240), (640, 480)];
@@ -137,23 +91,22 @@ fn main() {
         .unwrap_or(201)
         .max(50);
     let only = std::env::args().nth(2).filter(|c| c != "all");
+    let all = methods();
     let chosen: Vec<usize> = match std::env::args().nth(3) {
         Some(list) => {
             let names: Vec<&str> = list.split(',').collect();
-            (0..METHODS.len())
-                .filter(|&k| names.contains(&METHODS[k].0))
+            (0..all.len())
+                .filter(|&k| names.contains(&all[k].0))
                 .collect()
         }
-        None => (0..METHODS.len()).collect(),
+        None => (0..all.len()).collect(),
     };
     assert!(!chosen.is_empty(), "no method of that name");
-    let base_of = |name: &str| {
-        chosen
-            .iter()
-            .position(|&k| METHODS[k].0 == name)
-            .unwrap_or(0)
-    };
-    let (b_classic, b_gradient) = (base_of(<Classic>::NAME), base_of(Gradient::NAME));
+    let base_of = |name: &str| chosen.iter().position(|&k| all[k].0 == name).unwrap_or(0);
+    let (b_classic, b_gradient) = (
+        base_of(SpanName::CLASSIC.name()),
+        base_of(SpanName::GRADIENT.name()),
+    );
     let m = chosen.len();
     println!(
         "bench-sphere: median of {frames} frames per method, methods interleaved, \
@@ -180,15 +133,26 @@ fn main() {
             {
                 continue;
             }
-            let mut d = builtin_scene("bench-sphere").expect("built-in scene bench-sphere");
+            let mut d = builtin::scene("bench-sphere").expect("built-in scene bench-sphere");
             d.width = w;
             d.height = h;
             d.objects[0].mesh = MeshSource::Sphere { lon, lat };
             let ls = load("bench-sphere", &d, Path::new(".")).expect("load bench-sphere");
             let mut scene = core_scene(&ls.desc, &ls.fixed).expect("core scene");
+            let rows: Vec<Row> = chosen
+                .iter()
+                .map(|&k| {
+                    let d = SceneDesc {
+                        span: all[k].1,
+                        shading: all[k].2,
+                        ..ls.desc.clone()
+                    };
+                    Row::new(&d).expect("a raster pipeline")
+                })
+                .collect();
             let n = (w * h) as usize;
-            let mut cache = vec![XfVertex::default(); scene.vertex_count()];
-            let mut color = vec![0u16; n];
+            let mut cache = vec![fixshade::render::XfVertex::default(); scene.vertex_count()];
+            let mut color = vec![CoveredPixel::<u16>::default(); n];
             let mut depth = vec![0xFFFFu16; n];
 
             // times[method][round], pixels[method] summed, triangles per frame.
@@ -200,13 +164,12 @@ fn main() {
                 scene.objects[0].placement.rotate[1] = Angle::from_degrees(deg);
                 for j in 0..m {
                     let k = (round + j) % m;
-                    scene.shading = METHODS[chosen[k]].2;
+                    scene.shading = all[chosen[k]].2.core().expect("a raster shading");
                     depth.fill(0xFFFF);
-                    let mut fb =
-                        Framebuffer::<Rgb565Le>::new(&mut color, Some(&mut depth), w, h).unwrap();
+                    let mut fb = Strip::new(&mut color, Some(&mut depth), w, h, 0, h).unwrap();
                     let t = Instant::now();
-                    let st =
-                        std::hint::black_box((METHODS[chosen[k]].1)(&scene, &mut cache, &mut fb));
+                    let frame = rows[k].prepare(&scene, w, h, &mut cache).expect("prepare");
+                    let st = std::hint::black_box(rows[k].draw(&frame, &mut fb).expect("draw"));
                     let ns = t.elapsed().as_nanos() as f64;
                     if round >= WARMUP_ROUNDS {
                         times[k].push(ns);
@@ -231,7 +194,7 @@ fn main() {
                     format!("{lon}x{lat}"),
                     format!("{w}x{h}"),
                     tris,
-                    METHODS[chosen[k]].0,
+                    all[chosen[k]].0,
                     t,
                     px,
                     t / px,

@@ -36,8 +36,8 @@ use fixshade::raster::span::{Gradient, NoDepth};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::shade::Gouraud;
 use fixshade::target::{Framebuffer, Rgb565Le};
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::pipeline;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::load;
 
 fn mul_q16(a: Q16_16, b: Q16_16) -> i64 {
     (a.to_bits() as i64 * b.to_bits() as i64 + (1 << 15)) >> 16
@@ -80,7 +80,7 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(301);
-    let mut ls = pipeline::load_arg("sphere").expect("built-in scene");
+    let mut ls = load::load_arg("sphere").expect("built-in scene");
     for l in &mut ls.desc.lights {
         l.specular = [0.0; 3];
     }

@@ -28,9 +28,9 @@ use fixshade::eg::{CoveredPixel, Model};
 // Both preludes export an `Angle`: name fixshade's explicitly.
 use fixshade::fixed::Angle;
 use fixshade::prelude::*;
-use fixshade_sim::convert::FixedMesh;
-use fixshade_sim::desc::MeshData;
-use fixshade_sim::mesh::{sphere, teapot};
+use fixshade_sim::scene::convert::FixedMesh;
+use fixshade_sim::scene::desc::MeshData;
+use fixshade_sim::scene::mesh::{sphere, teapot};
 
 /// Display size.
 pub const SIZE: Size = Size::new(320, 240);

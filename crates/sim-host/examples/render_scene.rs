@@ -7,11 +7,11 @@
 //! `out/render_scene.png`). The scene's span method and shading are honoured; the
 //! frame is rendered as Rgb888 whatever the scene's format.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use fixshade::prelude::*;
-use fixshade_sim::convert::core_scene;
-use fixshade_sim::pipeline::load_arg;
+use fixshade_sim::scene::convert::core_scene;
+use fixshade_sim::scene::load::load_arg;
 use fixshade_sim::with_span_method;
 
 fn run() -> Result<(), String> {
@@ -38,7 +38,7 @@ fn run() -> Result<(), String> {
         with_span_method!(d.span, S => Renderer::new(&mut fb).span::<S>().draw(&scene, &mut cache))
             .map_err(|e| format!("{scene_arg}: {e}"))?;
 
-    write_png(&out, w, h, &color)?;
+    fixshade_sim::chart::png::write_rgb(&out, w, h, &[color.as_flattened()], 1, &[])?;
     println!(
         "{}: {} triangles, {} drawn, {} pixels -> {}",
         scene_arg,
@@ -48,19 +48,6 @@ fn run() -> Result<(), String> {
         out.display()
     );
     Ok(())
-}
-
-fn write_png(path: &Path, w: u32, h: u32, px: &[[u8; 3]]) -> Result<(), String> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    let mut wr = enc.write_header().map_err(|e| e.to_string())?;
-    wr.write_image_data(px.as_flattened())
-        .map_err(|e| e.to_string())
 }
 
 fn main() -> std::process::ExitCode {

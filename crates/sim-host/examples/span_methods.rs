@@ -6,9 +6,10 @@
 //! Run: `cargo run --release -p fixshade-sim --example span_methods [-- SCENE]`
 //! (SCENE: a scene file or built-in name, default `teapot`).
 
-use fixshade_sim::compare::compare;
-use fixshade_sim::desc::{Named, SpanName};
-use fixshade_sim::pipeline::{load_arg, reference, render};
+use fixshade_sim::image::compare::compare;
+use fixshade_sim::render::{reference, render};
+use fixshade_sim::scene::desc::{Named, SpanName};
+use fixshade_sim::scene::load::load_arg;
 
 fn run() -> Result<(), String> {
     let scene_arg = std::env::args().nth(1).unwrap_or_else(|| "teapot".into());

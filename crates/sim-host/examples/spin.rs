@@ -1,7 +1,7 @@
 //! A spinning teapot as an animated PNG: the library's `Renderer` draws each frame
 //! into a 200x160 Rgb565 framebuffer (the model turns 10° about y per frame), and
-//! the frames are written as one APNG (any browser plays it), with no dependency
-//! beyond `png`.
+//! the frames are written as one APNG (any browser plays it) by the simulator's PNG
+//! writer (`fixshade_sim::chart::png`).
 //!
 //! Run: `cargo run --release -p fixshade-sim --example spin [-- OUT.png [FRAMES]]`
 //! (default `out/spin.png`, 36 frames: one full turn).
@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use fixshade::prelude::*;
-use fixshade_sim::convert::FixedMesh;
-use fixshade_sim::mesh::teapot;
+use fixshade_sim::scene::convert::FixedMesh;
+use fixshade_sim::scene::mesh::teapot;
 
 const W: u32 = 200;
 const H: u32 = 160;
@@ -83,21 +83,8 @@ fn run() -> Result<(), String> {
         rgb8.push(frame);
     }
 
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    let file = std::fs::File::create(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), W, H);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    let png_err = |e: png::EncodingError| format!("{}: {e}", out.display());
-    enc.set_animated(frames, 0).map_err(png_err)?;
-    enc.set_frame_delay(1, 15).map_err(png_err)?;
-    let mut wr = enc.write_header().map_err(png_err)?;
-    for f in &rgb8 {
-        wr.write_image_data(f).map_err(png_err)?;
-    }
-    wr.finish().map_err(png_err)?;
+    let frames_rgb: Vec<&[u8]> = rgb8.iter().map(Vec::as_slice).collect();
+    fixshade_sim::chart::png::write_rgb(&out, W, H, &frames_rgb, 15, &[])?;
     println!(
         "{frames} frames of {W}x{H} -> {} (animated PNG, 15 frames/s)",
         out.display()

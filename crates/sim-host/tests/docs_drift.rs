@@ -1,12 +1,12 @@
 //! `docs/scene-files.md` is the scene-file reference from the module docs of
-//! `scene_file`; this test fails when they drift apart. `FIXSHADE_BLESS=1`
+//! `scene::file`; this test fails when they drift apart. `FIXSHADE_BLESS=1`
 //! regenerates the markdown.
 
 use std::path::Path;
 
 fn generated() -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let src = std::fs::read_to_string(root.join("src/scene_file.rs")).unwrap();
+    let src = std::fs::read_to_string(root.join("src/scene/file.rs")).unwrap();
     let mut lines = Vec::new();
     for l in src.lines() {
         let Some(rest) = l.strip_prefix("//!") else {
@@ -24,7 +24,7 @@ fn generated() -> String {
         text.replace_range(start..start + end + 2, &inner);
     }
     format!(
-        "<!-- Generated from the docs of crates/sim-host/src/scene_file.rs; a test checks they agree. -->\n{text}\n"
+        "<!-- Generated from the docs of crates/sim-host/src/scene/file.rs; a test checks they agree. -->\n{text}\n"
     )
 }
 

@@ -1,25 +1,26 @@
 //! `render_chunked` (the Cortex-M0 firmware's strips and mesh chunks on the host)
 //! draws with the scene's span method, divider and perspective correction.
 
-use fixshade_sim::bake::render_chunked;
-use fixshade_sim::desc::{DivideName, SpanName};
-use fixshade_sim::pipeline;
+use fixshade_sim::render;
+use fixshade_sim::render::render_chunked;
+use fixshade_sim::scene::desc::{DivideName, SpanName};
+use fixshade_sim::scene::load;
 
 #[test]
 fn render_chunked_draws_with_the_scenes_divider() {
-    let mut ls = pipeline::load_arg("sphere").unwrap();
+    let mut ls = load::load_arg("sphere").unwrap();
     ls.desc.width = 160;
     ls.desc.height = 120;
-    for span in [SpanName::Classic, SpanName::Gradient] {
+    for span in [SpanName::CLASSIC, SpanName::GRADIENT] {
         ls.desc.span = span;
-        ls.desc.divide = DivideName::Exact;
+        ls.desc.divide = DivideName::EXACT;
         let exact = render_chunked(&ls, 64, 2).unwrap();
-        assert_eq!(exact, pipeline::render(&ls, None).unwrap().bytes);
-        for d in [DivideName::Table, DivideName::ShiftAdd(4)] {
+        assert_eq!(exact, render::render(&ls, None).unwrap().bytes);
+        for d in [DivideName::named("table"), DivideName::named("shift-add-4")] {
             ls.desc.divide = d;
             let cut = render_chunked(&ls, 64, 2).unwrap();
             // The same pixels as the whole-frame render with that divider ...
-            assert_eq!(cut, pipeline::render(&ls, None).unwrap().bytes, "{d:?}");
+            assert_eq!(cut, render::render(&ls, None).unwrap().bytes, "{d:?}");
             // ... which are not `exact`'s (shift-add-4 is coarse; the table's wide
             // reciprocal rounds the divisor to 12 bits).
             assert_ne!(cut, exact, "{d:?}");
@@ -29,14 +30,14 @@ fn render_chunked_draws_with_the_scenes_divider() {
 
 #[test]
 fn render_chunked_draws_perspective_correct_colours() {
-    let mut ls = pipeline::load_arg("sphere").unwrap();
+    let mut ls = load::load_arg("sphere").unwrap();
     ls.desc.width = 160;
     ls.desc.height = 120;
-    ls.desc.span = SpanName::Gradient;
+    ls.desc.span = SpanName::GRADIENT;
     ls.desc.perspective_correct = false;
     let affine = render_chunked(&ls, 64, 2).unwrap();
     ls.desc.perspective_correct = true;
-    for d in [DivideName::Exact, DivideName::ShiftAdd(8)] {
+    for d in [DivideName::EXACT, DivideName::named("shift-add-8")] {
         ls.desc.divide = d;
         let mut seen = Vec::new();
         for span in [1, 16] {
@@ -46,7 +47,7 @@ fn render_chunked_draws_perspective_correct_colours() {
             // notwithstanding ...
             assert_eq!(
                 cut,
-                pipeline::render(&ls, None).unwrap().bytes,
+                render::render(&ls, None).unwrap().bytes,
                 "{d:?} {span}"
             );
             // ... which are not the affine fill's, and depend on the sub-span.

@@ -1,9 +1,9 @@
 //! `fixshade report --quick` in miniature: one figure, one timing run, into a
 //! temporary directory; checks the files it writes.
 
-use fixshade_sim::desc::{Named, SpanName};
 use fixshade_sim::image::Image;
-use fixshade_sim::report::{self, ReportOptions, CSV_HEADER, NOT_MEASURED};
+use fixshade_sim::scene::desc::{Named, SpanName};
+use fixshade_sim::tables::report::{self, ReportOptions, CSV_HEADER, NOT_MEASURED};
 
 #[test]
 fn quick_report_writes_table_csv_and_chart() {

@@ -1,9 +1,9 @@
 //! `fixshade specular --quick` into a temporary directory: the page has a row per
 //! model and n, the claims section, the reflectance rows, and the CSV and PNG exist.
 
-use fixshade_sim::desc::{Named, SpecularName};
 use fixshade_sim::image::Image;
-use fixshade_sim::specular_table::{CSV_HEADER, NOT_MEASURED, NS};
+use fixshade_sim::scene::desc::{Named, SpecularName};
+use fixshade_sim::tables::specular::{CSV_HEADER, NOT_MEASURED, NS};
 
 #[test]
 fn quick_table_writes_a_row_per_model_and_n_and_the_claims() {

@@ -13,7 +13,7 @@
 
 use std::fmt::Write as _;
 
-use fixshade_sim::desc::{DivideName, Named, SceneDesc, SpanName};
+use fixshade_sim::scene::desc::{DivideName, Named, SceneDesc, SpanName};
 
 use super::{fmt_per, FrameRow, Image, Kind};
 
@@ -65,7 +65,7 @@ pub(super) fn apply(desc: &mut SceneDesc, case: &str) -> Result<(), String> {
         }
         None => {
             desc.span = SpanName::parse(case)?;
-            desc.divide = DivideName::Exact;
+            desc.divide = DivideName::EXACT;
         }
     }
     Ok(())

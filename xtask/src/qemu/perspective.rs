@@ -13,7 +13,7 @@
 
 use std::fmt::Write as _;
 
-use fixshade_sim::desc::{DivideName, Named, SceneDesc, SpanName};
+use fixshade_sim::scene::desc::{DivideName, Named, SceneDesc, SpanName};
 
 use super::{fmt_per, FrameRow, Image, Kind};
 
@@ -63,7 +63,7 @@ const fn m0(features: &'static str) -> Image {
     }
 }
 
-/// What `pipeline::load_arg` loads for a figure: a built-in scene's name, or the
+/// What `load::load_arg` loads for a figure: a built-in scene's name, or the
 /// ground plane's scene file.
 pub(super) fn source(figure: &str) -> String {
     match figure {
@@ -93,15 +93,15 @@ pub(super) fn is_case(case: &str) -> bool {
 /// untouched) for any other case.
 pub(super) fn apply(desc: &mut SceneDesc, case: &str) -> Result<bool, String> {
     if case == "affine@exact" {
-        desc.span = SpanName::Gradient;
-        desc.divide = DivideName::Exact;
+        desc.span = SpanName::GRADIENT;
+        desc.divide = DivideName::EXACT;
         desc.perspective_correct = false;
         return Ok(true);
     }
     let Some((n, d)) = split(case) else {
         return Ok(false);
     };
-    desc.span = SpanName::Gradient;
+    desc.span = SpanName::GRADIENT;
     desc.divide = DivideName::parse(d)?;
     desc.perspective_correct = true;
     desc.perspective_span = n

@@ -1,0 +1,380 @@
+//! The core's frame loop on the host: prepare a loaded scene (vertex stage) and draw
+//! it ([`super::dispatch`]) whole or strip by strip, into an [`Image`] with its
+//! coverage; time it; or draw it chunk by chunk as a board with little RAM does.
+//!
+//! Every frame is drawn in the core's [`Covered`] form of its pixel format, which
+//! flags each pixel the draw writes: the image's coverage comes from the same pass as
+//! its pixels, and the bytes are the plain format's. Rendering, timing and the
+//! chunked render share one compiled pipeline per format.
+
+use std::time::{Duration, Instant};
+
+use fixshade::effects::NoSpecular;
+use fixshade::eg::{Covered, CoveredPixel};
+use fixshade::render::{Frame, Stats, XfVertex};
+use fixshade::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
+
+use super::dispatch::{Draw, Lighting};
+use super::host::{with_selection, HostSpecular};
+use super::output::Render;
+use crate::image::Image;
+use crate::scene::convert::{background8, background_channels, core_scene, FixedMesh};
+use crate::scene::desc::{DivideName, FormatName, SceneDesc, ShadingName, SpecularName};
+use crate::scene::effects::{forced_specular, has_specular};
+use crate::scene::load::LoadedScene;
+use fixshade::scene::Scene;
+
+/// True if the frame runs the specular term: some light and some material have a
+/// specular colour, or `+specular` is forced, or the divider is approximate.
+/// Otherwise a frame of the default format (rgb565, see `Drawn::Diffuse`) runs without the
+/// specular code ([`NoSpecular`]). The pixels are the same either way (without a
+/// specular colour the term is zero); only the time differs, so the pipelines
+/// without the specular term are compiled for what the effects measurements time
+/// (`fixshade effects`, `--explain`: rgb565 scenes, the exact divider) and no more.
+pub fn specular_pipeline(d: &SceneDesc) -> bool {
+    has_specular(d) || forced_specular(d) || d.divide != DivideName::EXACT
+}
+
+/// The frames a scene description asks for, chosen once ([`super::dispatch`]) with
+/// the divider and specular model it selects: prepares (vertex stage) and draws
+/// frames of a scene in `P` with coverage ([`Covered`]). `Sp` is the frames'
+/// lighting: [`HostSpecular`], or [`NoSpecular`] where [`specular_pipeline`] is
+/// false and the format is the default.
+pub struct Pipeline<P: PixelFormat, Sp: Lighting> {
+    draw: Draw<Covered<P>, Sp>,
+    divide: DivideName,
+    specular: SpecularName,
+}
+
+impl<P: PixelFormat, Sp: Lighting> Pipeline<P, Sp> {
+    /// The pipeline of `d` (not ray casting).
+    pub fn new(d: &SceneDesc) -> Result<Self, String> {
+        Ok(Pipeline {
+            draw: Sp::choose(d)?,
+            divide: d.divide,
+            specular: d.specular,
+        })
+    }
+
+    /// The vertex stage of `scene` for a `width` x `height` frame.
+    pub fn prepare<'s, 'a, 'c>(
+        &self,
+        scene: &'s Scene<'a>,
+        width: u32,
+        height: u32,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Frame<'s, 'a, 'c, Covered<P>, Sp>, String> {
+        with_selection(self.divide, self.specular, || {
+            Frame::<Covered<P>>::prepare_with::<Sp>(scene, width, height, cache)
+        })
+        .map_err(|e| e.to_string())
+    }
+
+    /// Draws a prepared frame into a strip (of every row, or of some).
+    pub fn draw(
+        &self,
+        frame: &Frame<'_, '_, '_, Covered<P>, Sp>,
+        strip: &mut Strip<'_, Covered<P>>,
+    ) -> Result<Stats, String> {
+        with_selection(self.divide, self.specular, || self.draw.run(frame, strip))
+    }
+}
+
+/// How the host draws frames of a pixel format.
+pub trait Drawn: PixelFormat {
+    /// The format the pipeline draws in: the format itself, or for [`Rgb565Be`]
+    /// [`Rgb565Le`], whose bytes are then swapped in pairs (`Rgb565Be::pack` is the
+    /// byte swap of `Rgb565Le::pack`; the test `rgb565be_is_rgb565le_swapped` checks
+    /// a frame).
+    type As: PixelFormat;
+    /// True if the bytes of `As` are swapped in pairs.
+    const SWAP: bool = false;
+    /// The lighting of frames without a specular term: [`NoSpecular`] for the
+    /// default format, the general pipeline ([`HostSpecular`]) otherwise.
+    type Diffuse: Lighting;
+}
+
+impl Drawn for Rgb565Le {
+    type As = Self;
+    type Diffuse = NoSpecular;
+}
+
+impl Drawn for Rgb565Be {
+    type As = Rgb565Le;
+    const SWAP: bool = true;
+    type Diffuse = NoSpecular;
+}
+
+impl Drawn for Rgb888 {
+    type As = Self;
+    type Diffuse = HostSpecular;
+}
+
+impl Drawn for Gray8 {
+    type As = Self;
+    type Diffuse = HostSpecular;
+}
+
+/// Swaps the bytes of `b` in pairs, if `swap`.
+fn swapped(mut b: Vec<u8>, swap: bool) -> Vec<u8> {
+    if swap {
+        for pair in b.chunks_exact_mut(2) {
+            pair.swap(0, 1);
+        }
+    }
+    b
+}
+
+/// The arm of [`with_types`] for each pixel format of the registry.
+macro_rules! pick_format {
+    ([$d:expr, $P:ident, $Sp:ident, $swap:ident, $body:expr] $($F:ty),* $(,)?) => {{
+        let d: &SceneDesc = $d;
+        let mut at = 0;
+        $(
+            if d.format.index() == at {
+                type $P = <$F as Drawn>::As;
+                let $swap = <$F as Drawn>::SWAP;
+                return if specular_pipeline(d) {
+                    type $Sp = HostSpecular;
+                    $body
+                } else {
+                    type $Sp = <$F as Drawn>::Diffuse;
+                    $body
+                };
+            }
+            at += 1;
+        )*
+        unreachable!("pixel format {} of {at}", d.format.index())
+    }};
+}
+
+/// Runs `$body` (and returns its value) with `$P` bound to the format the scene's
+/// pixel format is drawn in ([`Drawn`]), `$swap` to whether its bytes are swapped,
+/// and `$Sp` to its lighting type ([`HostSpecular`], or without a specular term
+/// [`Drawn::Diffuse`]).
+macro_rules! with_types {
+    ($d:expr, $P:ident, $Sp:ident, $swap:ident => $body:expr) => {
+        fixshade::for_each_pixel_format!(pick_format[$d, $P, $Sp, $swap, $body])
+    };
+}
+
+/// Renders with the fixed-point core, whole frame (`strip_rows = None`) or strip by
+/// strip; coverage comes from the same pass (the pixels the draw wrote).
+pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, String> {
+    if ls.desc.shading == ShadingName::RAYCAST {
+        return super::raycast::render(ls);
+    }
+    with_types!(&ls.desc, P, Sp, swap => render_as::<P, Sp>(ls, strip_rows).map(|r| Render {
+        bytes: swapped(r.bytes, swap),
+        ..r
+    }))
+}
+
+/// Median wall time of one frame (vertex stage + rasterization, framebuffer clear
+/// excluded) over `runs` runs.
+pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
+    if ls.desc.shading == ShadingName::RAYCAST {
+        return super::raycast::time_frame(ls, runs);
+    }
+    with_types!(&ls.desc, P, Sp, _swap => time_as::<P, Sp>(ls, runs))
+}
+
+/// A frame's pixels, each with its written flag.
+type Pixels<P> = Vec<CoveredPixel<<P as PixelFormat>::Raw>>;
+
+/// The frame `d` describes, drawn band by band: `rows` rows at a time into one
+/// [`Covered`] strip cleared to the background, `draw` filling each band; returns
+/// the bands' pixels in frame order and the statistics summed.
+fn bands<P: PixelFormat>(
+    d: &SceneDesc,
+    rows: u32,
+    mut draw: impl FnMut(&mut Strip<'_, Covered<P>>) -> Result<Stats, String>,
+) -> Result<(Pixels<P>, Stats), String> {
+    let (w, h) = (d.width, d.height);
+    let rows = rows.clamp(1, h);
+    let bgc = background_channels(d.format, d.background);
+    let bg = CoveredPixel {
+        raw: P::pack(bgc[0], bgc[1], bgc[2]),
+        written: false,
+    };
+    let mut color = Vec::with_capacity(w as usize * h as usize);
+    let mut band = vec![bg; w as usize * rows as usize];
+    let mut depth = vec![0xFFFFu16; w as usize * rows as usize];
+    let mut stats = Stats::default();
+    let mut y0 = 0;
+    while y0 < h {
+        let hh = rows.min(h - y0);
+        let mut strip = Strip::<Covered<P>>::new(
+            &mut band,
+            d.depth_test.then_some(&mut depth[..]),
+            w,
+            h,
+            y0,
+            hh,
+        )
+        .map_err(|e| e.to_string())?;
+        strip.clear(bg);
+        stats += draw(&mut strip)?;
+        color.extend_from_slice(strip.color());
+        y0 += hh;
+    }
+    Ok((color, stats))
+}
+
+/// The bytes of `P` pixels in memory order.
+fn raw_bytes<P: PixelFormat>(color: &[CoveredPixel<P::Raw>]) -> Vec<u8> {
+    color
+        .iter()
+        .flat_map(|p| P::bytes(p.raw).into_iter().take(P::BYTES))
+        .collect()
+}
+
+/// The frame of `ls` in `P` with coverage: prepared with `Sp`, drawn whole or in
+/// strips of `strip_rows` rows.
+fn render_as<P: PixelFormat, Sp: Lighting>(
+    ls: &LoadedScene,
+    strip_rows: Option<u32>,
+) -> Result<Render, String> {
+    let d = &ls.desc;
+    let scene = core_scene(d, &ls.fixed)?;
+    let pipeline = Pipeline::<P, Sp>::new(d)?;
+    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let frame = pipeline.prepare(&scene, d.width, d.height, &mut cache)?;
+    let (color, stats) = bands::<P>(d, strip_rows.unwrap_or(d.height), |strip| {
+        pipeline.draw(&frame, strip)
+    })?;
+    let bg8 = background8(d);
+    Ok(Render {
+        image: Image {
+            width: d.width,
+            height: d.height,
+            pixels: color
+                .iter()
+                .map(|p| {
+                    if p.written {
+                        d.format.expand(P::unpack(p.raw))
+                    } else {
+                        bg8
+                    }
+                })
+                .collect(),
+            covered: color.iter().map(|p| p.written).collect(),
+            background: bg8,
+        },
+        bytes: raw_bytes::<P>(&color),
+        stats,
+    })
+}
+
+/// One frame timed as [`render_as`] draws it (whole frame, the coverage flag
+/// included: it costs about 1 % of a frame, `examples/bench_table.rs`).
+fn time_as<P: PixelFormat, Sp: Lighting>(
+    ls: &LoadedScene,
+    runs: usize,
+) -> Result<Duration, String> {
+    let d = &ls.desc;
+    let scene = core_scene(d, &ls.fixed)?;
+    let (w, h) = (d.width, d.height);
+    let n = w as usize * h as usize;
+    let pipeline = Pipeline::<P, Sp>::new(d)?;
+    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let mut color = vec![CoveredPixel::<P::Raw>::default(); n];
+    let mut depth = vec![0xFFFFu16; n];
+    let mut times = Vec::with_capacity(runs);
+    for _ in 0..runs.max(1) {
+        depth.fill(0xFFFF);
+        let t = Instant::now();
+        let frame = pipeline.prepare(&scene, w, h, &mut cache)?;
+        let mut fb = Strip::<Covered<P>>::new(
+            &mut color,
+            d.depth_test.then_some(&mut depth[..]),
+            w,
+            h,
+            0,
+            h,
+        )
+        .map_err(|e| e.to_string())?;
+        std::hint::black_box(pipeline.draw(&frame, &mut fb)?);
+        times.push(t.elapsed());
+    }
+    times.sort();
+    Ok(times[times.len() / 2])
+}
+
+/// Renders a one-object scene (its span method, divider and perspective correction)
+/// the way a board with little RAM does: strip by strip (`rows` rows each), and per
+/// strip chunk by chunk (`fixshade bake --chunk max_vertices`, [`super::bake::chunks`]),
+/// each chunk with its own vertex stage. Returns the frame's bytes (Rgb565
+/// little-endian scenes only). The QEMU Cortex-M0 firmware renders this way;
+/// `cargo xtask qemu` compares its frames with this.
+pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Result<Vec<u8>, String> {
+    let d = &ls.desc;
+    if d.format != FormatName::RGB565LE || ls.fixed.len() != 1 {
+        return Err("render_chunked takes one-object rgb565le scenes".into());
+    }
+    let meshes: Vec<FixedMesh> = super::bake::chunks(&ls.fixed[0], Some(max_vertices))?
+        .into_iter()
+        .map(|c| FixedMesh {
+            positions: c.positions,
+            normals: c.normals,
+            triangles: c.triangles,
+        })
+        .collect();
+    with_types!(d, P, Sp, swap => chunked_as::<P, Sp>(d, &meshes, max_vertices, rows)
+        .map(|b| swapped(b, swap)))
+}
+
+fn chunked_as<P: PixelFormat, Sp: Lighting>(
+    d: &SceneDesc,
+    meshes: &[FixedMesh],
+    max_vertices: usize,
+    rows: u32,
+) -> Result<Vec<u8>, String> {
+    let scenes = meshes
+        .iter()
+        .map(|m| core_scene(d, std::slice::from_ref(m)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let pipeline = Pipeline::<P, Sp>::new(d)?;
+    let mut cache = vec![XfVertex::default(); max_vertices];
+    let (color, _) = bands::<P>(d, rows, |strip| {
+        let mut stats = Stats::default();
+        for scene in &scenes {
+            let frame = pipeline.prepare(scene, d.width, d.height, &mut cache)?;
+            stats += pipeline.draw(&frame, strip)?;
+        }
+        Ok(stats)
+    })?;
+    Ok(raw_bytes::<P>(&color))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load::load_arg;
+
+    /// A frame drawn in the core's `Rgb565Be` has the bytes of the same frame in
+    /// `Rgb565Le`, swapped in pairs: what [`Drawn`] relies on.
+    #[test]
+    fn rgb565be_is_rgb565le_swapped() {
+        fn bytes<P: PixelFormat>(ls: &LoadedScene) -> Vec<u8> {
+            let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
+            let (w, h) = (ls.desc.width, ls.desc.height);
+            let n = w as usize * h as usize;
+            let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+            let (mut color, mut depth) = (vec![P::Raw::default(); n], vec![0xFFFF; n]);
+            let frame = Frame::<P>::prepare(&scene, w, h, &mut cache).unwrap();
+            let mut fb = Strip::<P>::new(&mut color, Some(&mut depth), w, h, 0, h).unwrap();
+            frame
+                .draw::<fixshade::raster::span::Gradient, _>(&mut fb)
+                .unwrap();
+            color
+                .iter()
+                .flat_map(|p| P::bytes(*p).into_iter().take(P::BYTES))
+                .collect()
+        }
+        let ls = load_arg("teapot").unwrap();
+        let le = bytes::<Rgb565Le>(&ls);
+        assert!(le.chunks(2).any(|p| p[0] != p[1]));
+        assert_eq!(swapped(le, true), bytes::<Rgb565Be>(&ls));
+    }
+}
