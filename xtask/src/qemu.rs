@@ -176,7 +176,7 @@ fn build_real_boards(root: &Path) -> Result<Vec<(String, u64, u64)>, String> {
 }
 
 /// The longest a firmware run may take in wall time before it counts as hung.
-const RUN_LIMIT: Duration = Duration::from_secs(900);
+const RUN_LIMIT: Duration = Duration::from_secs(300);
 
 /// One `FRAME` line.
 #[derive(Clone, Debug)]
@@ -451,7 +451,11 @@ fn helper_share(r: &FrameRow) -> String {
     if r.total() == 0 {
         return r.helpers.to_string();
     }
-    format!("{} ({:.2} %)", r.helpers, 100.0 * r.helpers as f64 / r.total() as f64)
+    format!(
+        "{} ({:.2} %)",
+        r.helpers,
+        100.0 * r.helpers as f64 / r.total() as f64
+    )
 }
 
 fn fmt_per(a: u64, b: u64) -> String {

@@ -140,6 +140,14 @@ fn SysTick() {
     fixshade_boards_common::on_systick();
 }
 
+/// A fault (a stack overflow into the statics, say) ends the run with its address
+/// rather than spinning until `cargo xtask qemu` gives up.
+#[exception]
+unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    semihosting::println!("HARDFAULT pc {:#x} lr {:#x}", frame.pc(), frame.lr());
+    semihosting::process::exit(2)
+}
+
 /// Fills the RAM from the end of the statics to 256 bytes below the current stack
 /// pointer with [`PAINT`].
 #[allow(unsafe_code)]

@@ -204,6 +204,14 @@ fn SysTick() {
     fixshade_boards_common::on_systick();
 }
 
+/// A fault (a stack overflow into the statics, say) ends the run with its address
+/// rather than spinning until `cargo xtask qemu` gives up.
+#[exception]
+unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    semihosting::println!("HARDFAULT pc {:#x} lr {:#x}", frame.pc(), frame.lr());
+    semihosting::process::exit(2)
+}
+
 /// `<figure>-<case>.rgb565` as a C string in `buf`.
 fn file_name<'b>(buf: &'b mut [u8; 64], figure: &str, case: &str) -> &'b CStr {
     let mut n = 0;

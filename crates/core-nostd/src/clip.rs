@@ -316,7 +316,9 @@ mod tests {
             for &d2 in &edges {
                 for &d3 in &edges {
                     let (a, b, c) = ((7, -3), (7 + d1, -3 + d2), (7 + d3, -3 + d1));
-                    let small = [d1, d2, d3].iter().all(|d| (-(1 << 15)..1 << 15).contains(d));
+                    let small = [d1, d2, d3]
+                        .iter()
+                        .all(|d| (-(1 << 15)..1 << 15).contains(d));
                     let got = signed_area_i32(a, b, c);
                     assert_eq!(got.is_some(), small, "{d1} {d2} {d3}");
                     if let Some(s) = got {

@@ -305,7 +305,11 @@ impl Axis {
         let cn = c << (n - self.g);
         let s = self.k + ((mul_hi(cn, mul_hi_k(self.kh, r)) + self.bias) >> self.shift);
         if s.unsigned_abs() >= GUARD as u32 {
-            return if CLAMP { Some(s.clamp(-lim, lim)) } else { None };
+            return if CLAMP {
+                Some(s.clamp(-lim, lim))
+            } else {
+                None
+            };
         }
         Some(s)
     }
@@ -381,7 +385,12 @@ impl Projector {
     /// [`Mat4::orthographic`]), for vertices within `reach` (Q32.32) of the eye in
     /// every eye-space coordinate. `None` if the constants do not fit (a
     /// degenerate projection).
-    pub fn new(vp: Viewport, proj: &Mat4, depth_range: Option<(Q16_16, Q16_16)>, reach: i64) -> Option<Projector> {
+    pub fn new(
+        vp: Viewport,
+        proj: &Mat4,
+        depth_range: Option<(Q16_16, Q16_16)>,
+        reach: i64,
+    ) -> Option<Projector> {
         let (x, y) = (Axis::new(vp.width), Axis::new(vp.height));
         let w_bits = 30 - x.g.max(y.g);
         // Bounds of the rows over the reach, Q64: (|P_r0| + |P_r1| + |P_r2|)·R + |P_r3|.
@@ -394,7 +403,11 @@ impl Projector {
             if r == 2 && depth_range.is_some() {
                 continue; // z comes from w
             }
-            let l: i128 = row[..3].iter().map(|v| v.unsigned_abs() as i128).sum::<i128>() * reach
+            let l: i128 = row[..3]
+                .iter()
+                .map(|v| v.unsigned_abs() as i128)
+                .sum::<i128>()
+                * reach
                 + ((row[3].unsigned_abs() as i128) << 32);
             if l > 0 {
                 let limit = if r == 3 { w_bits as i32 } else { 30 };
@@ -417,7 +430,13 @@ impl Projector {
     }
 
     /// The perspective constants (see [`PerspectiveDepth`]).
-    fn perspective(proj: &Mat4, scale: i32, near: Q16_16, far: Q16_16, w_bits: u32) -> Option<PerspectiveDepth> {
+    fn perspective(
+        proj: &Mat4,
+        scale: i32,
+        near: Q16_16,
+        far: Q16_16,
+        w_bits: u32,
+    ) -> Option<PerspectiveDepth> {
         let (n, f) = (near.to_bits() as i128, far.to_bits() as i128);
         if n <= 0 || f <= n {
             return None;
@@ -427,8 +446,16 @@ impl Projector {
         let a = (a_q >> 32).clamp(1, i32::MAX as i128) as i32;
         let frac = ((a_q - ((a as i128) << 32)).clamp(0, (1 << 32) - 1) >> 2) as i32;
         let b = proj.m[2][3] as i128;
-        let bz = if scale >= 32 { b << (scale - 32) } else { (b + (1i128 << (31 - scale))) >> (32 - scale) };
-        let z = ZFromW { a, frac, bz: i64::try_from(bz).ok()? };
+        let bz = if scale >= 32 {
+            b << (scale - 32)
+        } else {
+            (b + (1i128 << (31 - scale))) >> (32 - scale)
+        };
+        let z = ZFromW {
+            a,
+            frac,
+            bz: i64::try_from(bz).ok()?,
+        };
         // Thresholds: the least w with z + w ≥ 0 and the greatest with z − w ≤ 0
         // (z + w and w − z are monotone in w: the slope is at least 1).
         let search = |inside: &dyn Fn(i32) -> bool, lowest: bool| -> i32 {
@@ -439,7 +466,11 @@ impl Projector {
                 }
                 while lo < hi {
                     let mid = (lo + hi) / 2;
-                    if inside(mid as i32) { hi = mid } else { lo = mid + 1 }
+                    if inside(mid as i32) {
+                        hi = mid
+                    } else {
+                        lo = mid + 1
+                    }
                 }
                 lo as i32
             } else {
@@ -448,7 +479,11 @@ impl Projector {
                 }
                 while lo < hi {
                     let mid = (lo + hi + 1) / 2;
-                    if inside(mid as i32) { lo = mid } else { hi = mid - 1 }
+                    if inside(mid as i32) {
+                        lo = mid
+                    } else {
+                        hi = mid - 1
+                    }
                 }
                 lo as i32
             }
@@ -463,13 +498,21 @@ impl Projector {
         let kd = ((k + ((1i128 << d) >> 1)) >> d) as i32;
         // K·W_n with W_n = n·2^(scale − 16): k_q·n·2^(scale − 36).
         let kn = k_q * n;
-        let e = if scale >= 36 { kn << (scale - 36) } else { kn >> (36 - scale) };
+        let e = if scale >= 36 {
+            kn << (scale - 36)
+        } else {
+            kn >> (36 - scale)
+        };
         if e <= 0 {
             return None;
         }
         // E to 31 bits: e31 = E/2^ee in [2^30, 2^31).
         let mut ee = bits128(e) - 31;
-        let mut e31 = (if ee >= 0 { (e + ((1i128 << ee) >> 1)) >> ee } else { e << -ee }) as i64;
+        let mut e31 = (if ee >= 0 {
+            (e + ((1i128 << ee) >> 1)) >> ee
+        } else {
+            e << -ee
+        }) as i64;
         if e31 >= 1 << 31 {
             e31 >>= 1;
             ee += 1;
@@ -579,7 +622,13 @@ impl Projector {
     /// [`Self::project_perspective`] for an orthographic projection: `|x|, |y|, |z| <
     /// 2³⁰`, `0 < w < 2^w_bits`, `|z| ≤ w`.
     #[inline(always)]
-    pub(crate) fn project_orthographic(&self, x: i32, y: i32, z: i32, w: i32) -> Option<(i32, i32, u32)> {
+    pub(crate) fn project_orthographic(
+        &self,
+        x: i32,
+        y: i32,
+        z: i32,
+        w: i32,
+    ) -> Option<(i32, i32, u32)> {
         let n = leading_zeros(w as u32) - 1;
         let r = recip_refined((w as u32) << n);
         let sx = self.x.screen::<false>(x, w, n, r)?;
@@ -600,12 +649,21 @@ impl Projector {
         }
         // Shift right until x, y (and z without a perspective projection) are below
         // 2^30 and w below 2^w_bits: the ratios are kept, the exponent dropped.
-        let zz = if self.persp.is_some() { 0 } else { z.unsigned_abs() };
+        let zz = if self.persp.is_some() {
+            0
+        } else {
+            z.unsigned_abs()
+        };
         let big = x.unsigned_abs() | y.unsigned_abs() | zz;
         let s = (64 - big.leading_zeros() as i32 - 30)
             .max(64 - (w as u64).leading_zeros() as i32 - self.w_bits as i32)
             .max(0);
-        let (xs, ys, zs, ws) = ((x >> s) as i32, (y >> s) as i32, (z >> s) as i32, ((w >> s) as i32).max(1));
+        let (xs, ys, zs, ws) = (
+            (x >> s) as i32,
+            (y >> s) as i32,
+            (z >> s) as i32,
+            ((w >> s) as i32).max(1),
+        );
         let n = leading_zeros(ws as u32) - 1;
         let r = recip_refined((ws as u32) << n);
         let sx = self.x.screen::<true>(xs, ws, n, r)?;
@@ -786,7 +844,10 @@ mod tests {
                 let edge = ex.abs() == g || ey.abs() == g || ex.abs() == g - 1 || ey.abs() == g - 1;
                 match got {
                     Some((sx, sy, sz)) => {
-                        assert!(inside || edge, "case {case}: ({x}, {y}, {w}) outside, got {got:?}");
+                        assert!(
+                            inside || edge,
+                            "case {case}: ({x}, {y}, {w}) outside, got {got:?}"
+                        );
                         for (s, e, h) in [(sx, ex, hx), (sy, ey, hy)] {
                             assert!((s as i128 - e).abs() <= 1, "case {case}: {s} vs {e}");
                             if s as i128 != e {
@@ -799,12 +860,18 @@ mod tests {
                         let want = want.clamp(0.0, DS as f64);
                         worst_depth = worst_depth.max((sz as f64 - want).abs() / 65536.0);
                     }
-                    None => assert!(!inside || edge, "case {case}: ({x}, {y}, {w}) inside, got None"),
+                    None => assert!(
+                        !inside || edge,
+                        "case {case}: ({x}, {y}, {w}) inside, got None"
+                    ),
                 }
             }
         }
         assert!(total > 100_000, "{total}");
         assert!(differ * 1000 < total, "{differ} of {total} differ");
-        assert!(worst_depth < 1.0 / 1024.0, "depth off by {worst_depth} u16 steps");
+        assert!(
+            worst_depth < 1.0 / 1024.0,
+            "depth off by {worst_depth} u16 steps"
+        );
     }
 }

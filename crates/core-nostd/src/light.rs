@@ -663,9 +663,11 @@ impl<S: Specular> LightingSetup<S> {
     /// similarity: see [`ObjectLighting`]).
     pub fn for_object(&self, mv: &Mat4) -> ObjectLighting<S> {
         // s² from the first column of the linear part (Q64), |s| in Q16.16.
-        let s2: u128 = (0..3).map(|r| (mv.m[r][0] as i128 * mv.m[r][0] as i128) as u128).sum();
+        let s2: u128 = (0..3)
+            .map(|r| (mv.m[r][0] as i128 * mv.m[r][0] as i128) as u128)
+            .sum();
         let s = crate::math::isqrt_u128(s2) as i64 >> 16; // Q32 → Q16.16
-        // Object-space point: Rᵀ·(P − t)/s = linᵀ·(P − t)/s², Q16.16.
+                                                          // Object-space point: Rᵀ·(P − t)/s = linᵀ·(P − t)/s², Q16.16.
         let to_obj_point = |p: [i64; 3]| -> [i64; 3] {
             core::array::from_fn(|c| {
                 let v: i128 = (0..3)
@@ -683,7 +685,10 @@ impl<S: Specular> LightingSetup<S> {
         let unit15 = |d: [i32; 3]| to_object(mv, d).map(to_q15);
         let view = unit15([0, 0, ONE_Q30]).unwrap_or([0, 0, 1 << 15]);
         let zero = to_object(mv, [0, 0, ONE_Q30]).unwrap_or([0, 0, ONE_Q30]);
-        let zero = unit_normal(&zero.map(|c| Q2_14::from_bits(((c + (1 << 15)) >> 16) as i16)), ([0, 0, 1 << 14], 0));
+        let zero = unit_normal(
+            &zero.map(|c| Q2_14::from_bits(((c + (1 << 15)) >> 16) as i16)),
+            ([0, 0, 1 << 14], 0),
+        );
         let mut base = self.base;
         let mut lights = heapless::Vec::new();
         for light in &self.lights {
@@ -721,7 +726,11 @@ impl<S: Specular> LightingSetup<S> {
             directional,
             base,
             view,
-            eye: if self.local_viewer { Some(to_obj_point([0; 3])) } else { None },
+            eye: if self.local_viewer {
+                Some(to_obj_point([0; 3]))
+            } else {
+                None
+            },
             scale: s,
             zero,
             spec: self.spec,
@@ -781,7 +790,11 @@ impl<S: Specular> ObjectLighting<S> {
             if !S::ENABLED || !light.has_spec {
                 continue;
             }
-            let h = if self.eye.is_some() { half15(l, view) } else { h };
+            let h = if self.eye.is_some() {
+                half15(l, view)
+            } else {
+                h
+            };
             let Some(h) = h else { continue };
             let nh = ndot(&n, e, &h);
             if nh <= 0 {
@@ -834,7 +847,11 @@ impl<S: Specular> ObjectLighting<S> {
             if !S::ENABLED || !light.has_spec {
                 continue;
             }
-            let h = if self.eye.is_some() { half15(l, view) } else { h };
+            let h = if self.eye.is_some() {
+                half15(l, view)
+            } else {
+                h
+            };
             if let Some(h) = h {
                 self.add_specular(&mut acc, light, &n, e, &h, None);
             }
@@ -877,7 +894,15 @@ impl<S: Specular> ObjectLighting<S> {
     /// [`LightingSetup::shade`] adds it: `cⁿ` from the [`Specular`] model of
     /// `c = N·H`, times the attenuation (`None`: exactly 1).
     #[inline(always)]
-    fn add_specular(&self, acc: &mut [i64; 3], light: &ObjectLight, n: &[i32; 3], e: i32, h: &[i32; 3], att: Option<i32>) {
+    fn add_specular(
+        &self,
+        acc: &mut [i64; 3],
+        light: &ObjectLight,
+        n: &[i32; 3],
+        e: i32,
+        h: &[i32; 3],
+        att: Option<i32>,
+    ) {
         let nh = ndot(n, e, h);
         if nh <= 0 {
             return;
@@ -1287,7 +1312,9 @@ fn attenuation_at(dist: u64, att: [Q16_16; 3]) -> i32 {
     } else {
         (t2_hi << 16) + (mul_wide_u(q, d2 as u32) >> 16)
     };
-    let den = ((c as u64) << 16).saturating_add(mul_wide_u(l, d)).saturating_add(t2);
+    let den = ((c as u64) << 16)
+        .saturating_add(mul_wide_u(l, d))
+        .saturating_add(t2);
     if den == 0 {
         return i32::MAX;
     }
@@ -1295,13 +1322,20 @@ fn attenuation_at(dist: u64, att: [Q16_16; 3]) -> i32 {
     let (hi, lo) = ((den >> 32) as u32, den as u32);
     let (k, top) = if hi != 0 {
         let z = leading_zeros(hi);
-        (z, if z == 0 { hi } else { (hi << z) | (lo >> (32 - z)) })
+        (
+            z,
+            if z == 0 {
+                hi
+            } else {
+                (hi << z) | (lo >> (32 - z))
+            },
+        )
     } else {
         let z = leading_zeros(lo);
         (32 + z, lo << z)
     };
     let r = recip_q61(top >> 1); // 2^61/m, in (2^30, 2^31)
-    // 2^48/den = 2^(15 + k)/m = r·2^(k − 46): above 2^31 for k > 46.
+                                 // 2^48/den = 2^(15 + k)/m = r·2^(k − 46): above 2^31 for k > 46.
     match k {
         47.. => i32::MAX,
         15..=46 => (r >> (46 - k)).min(i32::MAX as u32) as i32,
@@ -1519,7 +1553,11 @@ mod tests {
                 _ => (seed as i32) >> (seed >> 59),
             };
             let f = ((seed >> 32) % ((1 << 15) + 1)) as i32;
-            assert_eq!(scale_q15_split(c, f), ((c as i64 * f as i64) >> 15) as i32, "{c} {f}");
+            assert_eq!(
+                scale_q15_split(c, f),
+                ((c as i64 * f as i64) >> 15) as i32,
+                "{c} {f}"
+            );
         }
     }
 
@@ -1542,7 +1580,11 @@ mod tests {
                 Q16_16::from_bits(((r >> 40) % (1 << 14)) as i32 * (k % 3 / 2) as i32),
             ];
             let d = (next() >> (28 + k % 30)).min(u32::MAX as u64);
-            let (c, l, q) = (att[0].to_bits() as i128, att[1].to_bits() as i128, att[2].to_bits() as i128);
+            let (c, l, q) = (
+                att[0].to_bits() as i128,
+                att[1].to_bits() as i128,
+                att[2].to_bits() as i128,
+            );
             let d128 = d as i128;
             let den = (c << 16) + l * d128 + ((q * d128 * d128) >> 16);
             let want = if den <= 0 {
@@ -1551,7 +1593,10 @@ mod tests {
                 ((1i128 << 48) as f64 / den as f64).min(i32::MAX as f64)
             };
             let got = attenuation_at(d, att) as f64;
-            assert!((got - want).abs() <= want * 2f64.powi(-28) + 1.0, "{att:?} d {d}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= want * 2f64.powi(-28) + 1.0,
+                "{att:?} d {d}: {got} vs {want}"
+            );
         }
     }
 
@@ -1571,7 +1616,11 @@ mod tests {
             let c = |r: u64| Q16_16::from_bits((r % (1 << 16)) as i32);
             let sun = |r: u64, d: [i32; 3]| Light {
                 ambient: [c(r >> 3); 3],
-                ..Light::directional(d.map(|v| Q16_16::from_bits(v << 12)), [c(r), c(r >> 7), c(r >> 11)], [c(r >> 17); 3])
+                ..Light::directional(
+                    d.map(|v| Q16_16::from_bits(v << 12)),
+                    [c(r), c(r >> 7), c(r >> 11)],
+                    [c(r >> 17); 3],
+                )
             };
             let lights = [sun(next(), [1, 2, 3]), sun(next(), [-3, 1, 1])];
             let mat = Material {
@@ -1579,16 +1628,28 @@ mod tests {
                 shininess: Q16_16::from_int(1 + (next() % 60) as i32),
                 ..Material::default()
             };
-            let setup = LightingSetup::<BlinnExact>::new(&lights, &Mat4::IDENTITY, &mat, [c(next() >> 2); 3], round % 2 == 0);
+            let setup = LightingSetup::<BlinnExact>::new(
+                &lights,
+                &Mat4::IDENTITY,
+                &mat,
+                [c(next() >> 2); 3],
+                round % 2 == 0,
+            );
             let mv = Mat4::translate([Q16_16::ONE, Q16_16::ZERO, Q16_16::from_int(-4)])
                 .mul(&Mat4::rotate_y(Angle::from_degrees(round * 17)))
                 .mul(&Mat4::rotate_x(Angle::from_degrees(round * 7)));
             let lit = setup.for_object(&mv);
             assert!(lit.unit);
             for _ in 0..500 {
-                let n = [0, 0, 0].map(|_: i32| Q2_14::from_bits(((next() % 32768) as i32 - 16384) as i16));
-                let p = [0, 0, 0].map(|_: i32| Q16_16::from_bits(((next() % (1 << 18)) as i32) - (1 << 17)));
-                assert_eq!(lit.shade_unit(&p, &n), lit.shade_wide(&p, &n), "{n:?} {p:?}");
+                let n = [0, 0, 0]
+                    .map(|_: i32| Q2_14::from_bits(((next() % 32768) as i32 - 16384) as i16));
+                let p = [0, 0, 0]
+                    .map(|_: i32| Q16_16::from_bits(((next() % (1 << 18)) as i32) - (1 << 17)));
+                assert_eq!(
+                    lit.shade_unit(&p, &n),
+                    lit.shade_wide(&p, &n),
+                    "{n:?} {p:?}"
+                );
             }
         }
     }

@@ -947,9 +947,10 @@ impl ZFromW {
 }
 
 /// How [`VertexTransform`] takes a mesh's positions before the products.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum PositionShift {
     /// As they are (the mesh spans exactly 17 or 19 bits).
+    #[default]
     None,
     /// Shifted left (exact; smaller meshes).
     Left,
@@ -977,7 +978,7 @@ pub enum PositionShift {
 ///
 /// For a perspective projection the vertex stage needs only x, y and w; the
 /// clipper's z comes from w ([`ZFromW`]).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct VertexTransform {
     m: [[i32; 3]; 4],
     hi: [[i32; 3]; 4],
@@ -1036,12 +1037,19 @@ impl VertexTransform {
             t[r] = scaled(clip.m[r][3], scale - 32)?;
         }
         // Every row within its limit for any |position| ≤ pmax (plus the floor).
-        let pmax = if b > 0 { 1i64 << p } else { (bound.max(0) as i64) << a };
+        let pmax = if b > 0 {
+            1i64 << p
+        } else {
+            (bound.max(0) as i64) << a
+        };
         for (r, (row, tr)) in m.iter().zip(t.iter()).enumerate() {
             if r == 2 && persp.is_some() {
                 continue; // z comes from w
             }
-            let sum: i64 = row.iter().map(|v| (v.unsigned_abs() as i64 * pmax) >> s).sum();
+            let sum: i64 = row
+                .iter()
+                .map(|v| (v.unsigned_abs() as i64 * pmax) >> s)
+                .sum();
             let lim = if r == 3 { 1i64 << w_bits } else { 1 << 30 };
             if sum + tr.unsigned_abs() as i64 + 4 > lim {
                 return None;
@@ -1125,7 +1133,11 @@ impl VertexTransform {
     pub fn xyw<const S: u32, const SH: u8>(&self, q: &Vec3) -> [i32; 3] {
         debug_assert_eq!(S, self.s);
         let p = self.input::<SH>(q);
-        [self.row::<S>(0, &p), self.row::<S>(1, &p), self.row::<S>(3, &p)]
+        [
+            self.row::<S>(0, &p),
+            self.row::<S>(1, &p),
+            self.row::<S>(3, &p),
+        ]
     }
 
     /// x, y, z and w of a mesh position (z from the third row), as [`Self::xyw`].
@@ -1133,7 +1145,12 @@ impl VertexTransform {
     pub fn xyzw<const S: u32, const SH: u8>(&self, q: &Vec3) -> [i32; 4] {
         debug_assert_eq!(S, self.s);
         let p = self.input::<SH>(q);
-        [self.row::<S>(0, &p), self.row::<S>(1, &p), self.row::<S>(2, &p), self.row::<S>(3, &p)]
+        [
+            self.row::<S>(0, &p),
+            self.row::<S>(1, &p),
+            self.row::<S>(2, &p),
+            self.row::<S>(3, &p),
+        ]
     }
 
     /// All four rows, any form.
@@ -1637,16 +1654,35 @@ mod tests {
     #[test]
     fn mul_hi_split_equals_native() {
         let mut seed = 0x7f4a_7c15_9e37_79b9u64;
-        let edges = [0, 1, -1, 0xFFFF, 0x10000, -0x10000, i32::MAX, i32::MIN, 0x7FFF, -0x8000];
+        let edges = [
+            0,
+            1,
+            -1,
+            0xFFFF,
+            0x10000,
+            -0x10000,
+            i32::MAX,
+            i32::MIN,
+            0x7FFF,
+            -0x8000,
+        ];
         for &a in &edges {
             for &b in &edges {
-                assert_eq!(mul_hi_split(a, b), ((a as i64 * b as i64) >> 32) as i32, "{a} {b}");
+                assert_eq!(
+                    mul_hi_split(a, b),
+                    ((a as i64 * b as i64) >> 32) as i32,
+                    "{a} {b}"
+                );
             }
         }
         for _ in 0..1_000_000 {
             let r = xorshift(&mut seed);
             let (a, b) = (r as i32 >> (r >> 59), (r >> 32) as i32 >> ((r >> 54) & 31));
-            assert_eq!(mul_hi_split(a, b), ((a as i64 * b as i64) >> 32) as i32, "{a} {b}");
+            assert_eq!(
+                mul_hi_split(a, b),
+                ((a as i64 * b as i64) >> 32) as i32,
+                "{a} {b}"
+            );
         }
     }
 
@@ -1700,7 +1736,9 @@ mod tests {
                 }
             }
             // The largest scale that fits every row.
-            let t = (-40..60).rev().find_map(|sc| VertexTransform::new(&m, sc, bound, 30, None));
+            let t = (-40..60)
+                .rev()
+                .find_map(|sc| VertexTransform::new(&m, sc, bound, 30, None));
             let Some(t) = t else { continue };
             tested += 1;
             for _ in 0..200 {

@@ -91,7 +91,12 @@ fn is_helper(name: &str) -> bool {
 }
 
 /// The helper instructions of each frame the image logs, in `FRAME` order.
-pub(super) fn per_frame(machine: &str, cpu: &str, elf: &Path, dir: &Path) -> Result<Vec<u64>, String> {
+pub(super) fn per_frame(
+    machine: &str,
+    cpu: &str,
+    elf: &Path,
+    dir: &Path,
+) -> Result<Vec<u64>, String> {
     let funcs = functions(elf)?;
     let mut ranges = Vec::new();
     let mut marker: HashMap<u32, Marker> = HashMap::new();
@@ -142,7 +147,10 @@ pub(super) fn per_frame(machine: &str, cpu: &str, elf: &Path, dir: &Path) -> Res
         .status()
         .map_err(|e| format!("cannot start qemu-system-arm: {e}"))?;
     if !status.success() {
-        return Err(format!("{}: the helper-count run failed ({status})", elf.display()));
+        return Err(format!(
+            "{}: the helper-count run failed ({status})",
+            elf.display()
+        ));
     }
     let file = std::fs::File::open(&log).map_err(|e| format!("{}: {e}", log.display()))?;
     // Blocks' sizes from their translations (`IN:` then one `0x…:` line per
