@@ -492,7 +492,7 @@ impl Projector {
         let w_hi = search(&|w| z.z(w) - w as i64 <= 0, false);
         // Depth constants from the exact near and far distances in clip units:
         // K = DS·f/(f − n), with 20 more fraction bits, and K·W_n.
-        let k_q = (DS * f << 20) / (f - n);
+        let k_q = ((DS * f) << 20) / (f - n);
         let k = k_q >> 20;
         let d = (bits128(k) - 28).max(0);
         let kd = ((k + ((1i128 << d) >> 1)) >> d) as i32;

@@ -264,7 +264,7 @@ const RECIP_SEED: [u16; 256] = {
     let mut i = 0;
     while i < 256 {
         // 2^24 / (i + 256.5) = 2^25 / (2i + 513), rounded.
-        t[i] = (((1u32 << 26) / (2 * i as u32 + 513) + 1) / 2) as u16;
+        t[i] = ((1u32 << 26) / (2 * i as u32 + 513)).div_ceil(2) as u16;
         i += 1;
     }
     t
@@ -311,7 +311,7 @@ const RECIP_KNOTS: [u16; 257] = {
     let mut j = 0;
     while j < 257 {
         // 2^24/(256 + j) rounded: (2^25/(256 + j) + 1)/2.
-        t[j] = (((1u32 << 25) / (256 + j as u32) + 1) / 2 - (1 << 15)) as u16;
+        t[j] = (((1u32 << 25) / (256 + j as u32)).div_ceil(2) - (1 << 15)) as u16;
         j += 1;
     }
     t
@@ -1030,11 +1030,11 @@ impl VertexTransform {
         };
         let mut m = [[0i32; 3]; 4];
         let mut t = [0i32; 4];
-        for r in 0..4 {
-            for i in 0..3 {
-                m[r][i] = scaled(clip.m[r][i], scale + b - a + s - 48)?;
+        for ((mr, tr), cr) in m.iter_mut().zip(t.iter_mut()).zip(clip.m.iter()) {
+            for (e, c) in mr.iter_mut().zip(cr.iter()) {
+                *e = scaled(*c, scale + b - a + s - 48)?;
             }
-            t[r] = scaled(clip.m[r][3], scale - 32)?;
+            *tr = scaled(cr[3], scale - 32)?;
         }
         // Every row within its limit for any |position| ≤ pmax (plus the floor).
         let pmax = if b > 0 {

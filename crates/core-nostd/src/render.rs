@@ -1481,8 +1481,9 @@ mod tests {
         assert!(inside > 10_000 && outside > 1_000, "{inside} {outside}");
     }
 
-    /// The vertex stage's object-space lighting against the eye-space setup
-    /// (`LightingSetup::shade` of the eye-space normal and position): within
+    /// The vertex stage's colours are the eye-space setup's (`LightingSetup::shade`
+    /// of the eye-space normal and position); the object-space lighting
+    /// (`ObjectLighting`, which the vertex stage does not use) against them: within
     /// 2⁻¹⁰ of the full scale per channel, and on average within 2⁻¹⁵ — both work
     /// from the mesh's Q2.14 normals; the object-space directions are Q1.15 and
     /// `cⁿ` amplifies N·H's rounding n-fold.
@@ -1502,6 +1503,7 @@ mod tests {
             let mv = view.mul(&obj.placement.matrix());
             let aff = Affine3::new(&mv).unwrap();
             let light = frame.lighting(obj, &view);
+            let object = light.for_object(&mv);
             for ((v, p), n) in frame.cache.iter().zip(pos.iter()).zip(nrm.iter()) {
                 if v.flags & NEEDED == 0 {
                     continue;
@@ -1509,8 +1511,11 @@ mod tests {
                 let want = to_channels::<crate::target::Rgb888>(
                     light.shade(aff.point(p), eye_normal(&aff, n)),
                 );
-                for k in 0..3 {
-                    let d = (v.s.c[k] as i64 - want[k] as i64).abs();
+                // The vertex stage lights in eye space: the same colour.
+                assert_eq!(v.s.c, want);
+                let got = to_channels::<crate::target::Rgb888>(object.shade(p, n));
+                for (g, w) in got.iter().zip(want) {
+                    let d = (*g as i64 - w as i64).abs();
                     worst = worst.max(d);
                     sum += d;
                     count += 1;

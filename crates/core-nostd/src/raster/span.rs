@@ -411,8 +411,8 @@ pub(crate) fn packed_channels<P: PixelFormat>(v: &[i32; ATTRS]) -> Option<u64> {
         return None;
     }
     let mut p = 0u64;
-    for k in 0..3 {
-        p = p.wrapping_add((v[k] as i64 as u64) << Packed::<P>::OFF[k]);
+    for (c, off) in v.iter().zip(Packed::<P>::OFF) {
+        p = p.wrapping_add((*c as i64 as u64) << off);
     }
     Some(p)
 }
