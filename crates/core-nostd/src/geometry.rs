@@ -546,12 +546,12 @@ impl Projector {
     }
 
     /// Clip units per clip-space unit, as a power of two (for
-    /// [`VertexTransform::new`]).
+    /// [`VertexTransform::new`](crate::math::VertexTransform::new)).
     pub fn scale(&self) -> i32 {
         self.scale
     }
 
-    /// The vertex stage's w lies below `2^w_bits` (for [`VertexTransform::new`]).
+    /// The vertex stage's w lies below `2^w_bits` (for [`VertexTransform::new`](crate::math::VertexTransform::new)).
     pub fn w_bits(&self) -> u32 {
         self.w_bits
     }
@@ -639,7 +639,7 @@ impl Projector {
     /// Projects clip coordinates of any scale in the frame's clip units (the
     /// clipper's), clamping what rounding in the clipper may have pushed a hair
     /// outside: x and y into the guard band, the depth to [0, 1]. `None` only if
-    /// `w ≤ 0`. For a vertex the vertex stage projected ([`VertexTransform::transform`]
+    /// `w ≤ 0`. For a vertex the vertex stage projected ([`VertexTransform::transform`](crate::math::VertexTransform::transform)
     /// of a vertex inside the guard band and the depth range) the result is the
     /// vertex stage's, bit for bit.
     pub fn project_clip(&self, c: [i64; 4]) -> Option<(i32, i32, u32)> {

@@ -621,7 +621,7 @@ enum ObjectKind {
 /// normal and `L' = Rᵀ·L` turned back once per frame (likewise the half vectors,
 /// the point lights' positions, the eye): no normal matrix, no eye-space position
 /// per vertex, and the normal's length is 1 to the Q2.14 rounding, corrected to
-/// first order ([`ndot`]) without a square root. Directions are Q1.15 and dot
+/// first order (`ndot`) without a square root. Directions are Q1.15 and dot
 /// products Q29: 15 bits, the precision of the mesh's normals. Distances to point
 /// lights are scaled back to eye space by the model's scale.
 ///

@@ -319,7 +319,7 @@ const RECIP_KNOTS: [u16; 257] = {
 
 /// The reciprocal of `m` in [2³⁰, 2³¹) as the vertex stage uses it, from 32-bit
 /// products only (four `MULS` on ARMv6-M, no 64-bit product, no division): a seed
-/// `r0 ≈ 2⁴⁶/m` in (2¹⁵, 2¹⁶], interpolated between the two [`RECIP_KNOTS`] around
+/// `r0 ≈ 2⁴⁶/m` in (2¹⁵, 2¹⁶], interpolated between the two `RECIP_KNOTS` around
 /// `m` (relative error below 2⁻¹⁴·⁵: the chord, the knots' rounding and the
 /// rounded slope), and the Newton residual `e ≈ 2³¹·(1 − m·r0/2⁴⁶)`, |e| < 2¹⁷
 /// (tested), so that `2⁴⁶/m = r0·(1 + e/2³¹)` to second order
@@ -402,7 +402,7 @@ pub(crate) fn mul_hi_k_split(kh: i32, r: i32) -> i32 {
 
 /// `⌊a·b / 2³²⌋` exactly: one `SMMUL` on ARMv7E-M (the high word of `SMULL`
 /// elsewhere); on ARMv6-M four 16×16-bit products whose carries into the high word
-/// are added exactly (see [`mul_hi_split`]). Both give the same bits (tested).
+/// are added exactly (see `mul_hi_split`). Both give the same bits (tested).
 ///
 /// ```
 /// use fixshade::math::mul_hi;
