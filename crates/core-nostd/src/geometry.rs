@@ -141,6 +141,29 @@ impl<'a> Mesh<'a> {
         self.bound
     }
 
+    /// This mesh with [`Self::bound`] raised to `bound` (at most the coordinate
+    /// limit): for a chunk of a larger mesh, the whole mesh's bound, so that the
+    /// vertex stage, whose fixed-point scales follow the bound, transforms the
+    /// chunk's vertices to exactly the bits the whole mesh's get (a board drawing
+    /// a mesh chunk by chunk then draws the whole frame's pixels).
+    ///
+    /// ```
+    /// use fixshade::fixed::{Q16_16, Q2_14};
+    /// use fixshade::geometry::Mesh;
+    /// let p = [[Q16_16::ONE, Q16_16::ZERO, Q16_16::ZERO]];
+    /// let n = [[Q2_14::ONE; 3]];
+    /// let m = Mesh::new(&p, &n, &[]).unwrap();
+    /// assert_eq!(m.with_bound(3 << 16).bound(), 3 << 16);
+    /// assert_eq!(m.with_bound(0).bound(), 1 << 16); // never lowered
+    /// ```
+    pub fn with_bound(self, bound: i32) -> Mesh<'a> {
+        let limit = Q16_16::from_int(MAX_COORD).to_bits() - 1;
+        Mesh {
+            bound: bound.clamp(self.bound, limit.max(self.bound)),
+            ..self
+        }
+    }
+
     /// Vertex positions.
     pub fn positions(&self) -> &'a [Vec3] {
         self.positions
@@ -285,6 +308,24 @@ impl Axis {
         }
     }
 
+    /// `k + ⌊c·k/w + ½⌋` exactly, from an estimate `s` within one of it (what the
+    /// reciprocal gives, near a rounding half): the remainder `2k·c + w − 2w·(s − k)`
+    /// lies in `[0, 2w)` exactly for the right value. `|2k·c|` < 2¹⁶·2³⁰ and
+    /// `|2w·(s − k)|` < 2³⁰·2¹⁷: two [`mul_wide`] products in `i64`. The vertex stage
+    /// and the clipper's projection both end here, so a vertex gets the same position
+    /// on either path, and every position is the correctly rounded one.
+    #[inline(always)]
+    fn exact(&self, s: i32, c: i32, w: i32) -> i32 {
+        let t = 2 * mul_wide(self.k, c) + w as i64 - 2 * mul_wide(w, s - self.k);
+        if t < 0 {
+            s - 1
+        } else if t >= 2 * w as i64 {
+            s + 1
+        } else {
+            s
+        }
+    }
+
     /// The screen coordinate of `c` at `w` (`0 < w < 2³⁰⁻ᵍ`, `n = lz(w) − 1`, `r` =
     /// [`recip_refined`] of `w·2ⁿ`): `k + ⌊c·k/w + ½⌋`, computed as
     /// `k + ⌊(⌊cₙ·kr/2³²⌋ + 2ˢʰ⁻³³)/2ˢʰ⁻³²⌋` with `cₙ = c·2ⁿ⁻ᵍ` (below `w·2ⁿ` <
@@ -304,6 +345,7 @@ impl Axis {
         }
         let cn = c << (n - self.g);
         let s = self.k + ((mul_hi(cn, mul_hi_k(self.kh, r)) + self.bias) >> self.shift);
+        let s = self.exact(s, c, w);
         if s.unsigned_abs() >= GUARD as u32 {
             return if CLAMP {
                 Some(s.clamp(-lim, lim))
@@ -611,6 +653,7 @@ impl Projector {
         let r = recip_refined((w as u32) << n);
         let sx = ax.k + ((mul_hi(x << (n - ax.g), mul_hi_k(ax.kh, r)) + ax.bias) >> ax.shift);
         let sy = ay.k + ((mul_hi(-y << (n - ay.g), mul_hi_k(ay.kh, r)) + ay.bias) >> ay.shift);
+        let (sx, sy) = (ax.exact(sx, x, w), ay.exact(sy, -y, w));
         // Both inside exactly when the OR of their magnitudes is (a power of two).
         const _: () = assert!(GUARD.count_ones() == 1);
         if (sx.unsigned_abs() | sy.unsigned_abs()) >= GUARD as u32 {
