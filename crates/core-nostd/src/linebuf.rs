@@ -168,6 +168,38 @@ where
 /// bottom, with the span method `S` ([`Binned::draw_band`]). The statistics count
 /// each triangle once when the frame was binned, and once per band when the bands
 /// re-walk (then [`Stats::rewalked`] counts the bands). See [`render_lines`].
+///
+/// A frame binned once can be sent twice (say, to two displays):
+///
+/// ```
+/// use core::ops::Range;
+/// use fixshade::linebuf::render_binned;
+/// use fixshade::prelude::*;
+/// use fixshade::raster::setup::Record;
+/// use fixshade::render::BandMemory;
+/// # let scene = fixshade::doc_support::scene();
+/// struct Lines(u32);
+/// impl LineBufferProvider for Lines {
+///     type Format = Rgb565Be;
+///     fn size(&self) -> (u32, u32) {
+///         (64, 48)
+///     }
+///     fn process_lines(&mut self, lines: Range<u32>, render: impl FnOnce(&mut [u16])) {
+///         let mut band = [0u16; 64 * 8];
+///         render(&mut band[..64 * lines.len()]);
+///         self.0 += 1;
+///     }
+/// }
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 12], [0u32; 7]);
+/// let binned = frame.bin(8, BandMemory::new(&mut records, &mut index, &mut starts)).unwrap();
+/// let mut depth = [0u16; 64 * 8];
+/// let (mut a, mut b) = (Lines(0), Lines(0));
+/// render_binned::<Gradient, _, _, _>(&binned, Some(&mut depth), 0, &mut a).unwrap();
+/// render_binned::<Gradient, _, _, _>(&binned, Some(&mut depth), 0, &mut b).unwrap();
+/// assert_eq!((a.0, b.0), (6, 6)); // six bands of 8 rows each
+/// ```
 pub fn render_binned<S, P, L, Sp>(
     binned: &Binned<'_, '_, '_, '_, '_, P, Sp>,
     mut depth: Option<&mut [u16]>,

@@ -134,6 +134,25 @@ impl<'m> BandMemory<'m> {
 /// A prepared frame whose triangles are set up and sorted into bands
 /// ([`Frame::bin`]); draw each band with [`Binned::draw_band`], in any order, from
 /// any thread.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::setup::Record;
+/// use fixshade::render::BandMemory;
+/// use fixshade::target::Strip;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 12], [0u32; 4]);
+/// let binned = frame.bin(16, BandMemory::new(&mut records, &mut index, &mut starts)).unwrap();
+/// assert!(binned.complete());
+/// let (mut color, mut depth) = ([0u16; 64 * 16], [u16::MAX; 64 * 16]);
+/// for band in (0..binned.bands()).rev() {
+///     let rows = binned.rows(band);
+///     let mut strip = Strip::new(&mut color, Some(&mut depth), 64, 48, rows.start, rows.len() as u32).unwrap();
+///     binned.draw_band::<Gradient, _>(band, &mut strip).unwrap();
+/// }
+/// ```
 pub struct Binned<'f, 's, 'a, 'c, 'm, P: PixelFormat, Sp: Specular> {
     frame: &'f Frame<'s, 'a, 'c, P, Sp>,
     records: &'m [Record],
@@ -188,7 +207,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             }
         };
         let cull = self.scene.cull_back;
-        for (obj, prep) in self.prepared() {
+        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
             let pos = obj.mesh.positions();
             let verts = &self.cache[prep.offset..prep.offset + pos.len()];
             for tri in obj.mesh.triangles() {
@@ -212,7 +231,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     Class::Clip => {
                         st.clipped += 1;
                         let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                            pos: prep.clip().transform(&pos[tri[k] as usize]),
+                            pos: prep.clip.transform(&pos[tri[k] as usize]),
                             c: colour(k),
                         });
                         self.clip_fan(cv, cull, &mut st, |s, _| {
