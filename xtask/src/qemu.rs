@@ -352,9 +352,9 @@ fn cargo_build(
         }
     }
     // The micro:bit's divider and scene images hold the code of many span methods or
-    // dividers beside their meshes, close to its 256 KiB of flash: they are built for
-    // size ("z"; the bytes drawn are the same, the instruction counts are not those
-    // of the figure images).
+    // dividers: at the crate's opt-level "s" it overflows the 256 KiB of flash by up
+    // to 25 KB, so they are built for size ("z"; the bytes drawn are the same, the
+    // instruction counts are not those of the figure images).
     if for_size(dir, features) {
         cmd.env("CARGO_PROFILE_RELEASE_OPT_LEVEL", "z");
     }
@@ -832,8 +832,8 @@ fn tables(
          instructions inside compiler runtime helpers (`__aeabi_*`, `__*di3`, `memcpy`, …)\n\
          during prepare and draw, from QEMU's execution log, and their share of the frame\n\
          (measured on the full-frame images; `—` on the micro:bit's). The micro:bit's\n\
-         divider and scene images are built at opt-level \"z\" (for their 256 KiB of\n\
-         flash): their counts are not comparable with its figure images'.\n\n",
+         divider and scene images are built at opt-level \"z\" (their code overflows its\n\
+         256 KiB of flash at \"s\"): their counts are not comparable with its figure images'.\n\n",
     );
     let _ = writeln!(
         md,

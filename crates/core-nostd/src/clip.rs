@@ -154,13 +154,20 @@ fn push<const N: usize>(p: &mut Polygon<N>, v: ClipVertex<N>) {
     }
 }
 
-/// The point where the segment a→b crosses the plane: `a + (b − a)·da/(da − db)`.
+/// The point where the segment a→b crosses the plane: `a + (b − a)·da/(da − db)`,
+/// computed from the endpoint with the smaller position whichever way the segment is
+/// walked: two polygons sharing a mesh edge walk it in opposite directions, and the
+/// truncating division would otherwise give them points one unit apart — after the
+/// projection, a crack of one pixel between their fans.
 fn intersect<const N: usize>(
     a: &ClipVertex<N>,
     b: &ClipVertex<N>,
     da: i128,
     db: i128,
 ) -> ClipVertex<N> {
+    if b.pos < a.pos {
+        return intersect(b, a, db, da);
+    }
     let den = da - db; // non-zero: the signs differ
     let lerp = |x: i128, y: i128| x + (y - x) * da / den;
     ClipVertex {
@@ -210,6 +217,34 @@ pub fn signed_area(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> i64 {
     mul_wide(dx1, dy2) - mul_wide(dx2, dy1)
 }
 
+/// [`signed_area`] with 32-bit products, for |coordinates| < 2²⁹ (the deltas and
+/// `delta + 2¹⁵` fit `i32`) and when every edge delta lies in [−2¹⁵, 2¹⁵) (a triangle under 2048
+/// pixels across): each product then lies in
+/// [−2³⁰ + 2¹⁵, 2³⁰] and their difference strictly inside ±2³¹, so the `i32` value
+/// is exact. `None` for larger deltas. ARMv6-M has no 32×32→64-bit multiply; this
+/// takes two `MULS` where [`signed_area`] takes two `__aeabi_lmul` calls.
+///
+/// ```
+/// use fixshade::clip::{signed_area, signed_area_i32};
+/// assert_eq!(signed_area_i32((0, 0), (16, 0), (0, 16)), Some(256));
+/// assert_eq!(signed_area_i32((0, 0), (1 << 15, 0), (0, 16)), None);
+/// let (a, b, c) = ((-16384, 3), (16383, -16384), (5, 16383));
+/// assert_eq!(signed_area_i32(a, b, c).map(i64::from), Some(signed_area(a, b, c)));
+/// ```
+#[inline(always)]
+pub fn signed_area_i32(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> Option<i32> {
+    let (dx1, dy1) = (b.0 - a.0, b.1 - a.1);
+    let (dx2, dy2) = (c.0 - a.0, c.1 - a.1);
+    // |d| < 2^30, so d + 2^15 cannot overflow; it lies in [0, 2^16) exactly for d in
+    // [-2^15, 2^15), and any other d sets a bit at 2^16 or above (or the sign).
+    let h = 1 << 15;
+    let spread = (dx1 + h) | (dy1 + h) | (dx2 + h) | (dy2 + h);
+    if spread as u32 >> 16 != 0 {
+        return None;
+    }
+    Some(dx1 * dy2 - dx2 * dy1)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -219,6 +254,43 @@ mod tests {
             pos: [x, y, z, w],
             c: [0; 3],
         }
+    }
+
+    /// A segment cut by a plane gives the same point walked either way (neighbouring
+    /// polygons walk their shared edge in opposite directions).
+    #[test]
+    fn cut_point_does_not_depend_on_direction() {
+        let vp = Viewport {
+            width: 320,
+            height: 240,
+        };
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % (2 * m as u64)) as i64 - m
+        };
+        let mut cuts = 0;
+        for _ in 0..20_000 {
+            let p = |n: &mut dyn FnMut(i64) -> i64| {
+                let w = n(1 << 20).abs() + 1;
+                ClipVertex::<3> {
+                    pos: [n(1 << 26), n(1 << 26), n(1 << 21), w],
+                    c: [n(1 << 20) as i32, n(1 << 20) as i32, n(1 << 20) as i32],
+                }
+            };
+            let (a, b) = (p(&mut next), p(&mut next));
+            for k in 0..6 {
+                let (da, db) = (distance(k, &a.pos, &vp), distance(k, &b.pos, &vp));
+                if (da >= 0) != (db >= 0) {
+                    cuts += 1;
+                    let (ab, ba) = (intersect(&a, &b, da, db), intersect(&b, &a, db, da));
+                    assert_eq!((ab.pos, ab.c), (ba.pos, ba.c));
+                }
+            }
+        }
+        assert!(cuts > 10_000, "{cuts}");
     }
 
     #[test]
@@ -270,5 +342,43 @@ mod tests {
             v(0, one, 3 * one, one),
         ];
         assert_eq!(clip_triangle(t, &vp).len, 0);
+    }
+
+    /// The 32-bit area equals the 64-bit one wherever it answers, and answers
+    /// exactly when every delta lies in [−2¹⁵, 2¹⁵).
+    #[test]
+    fn small_area_equals_signed_area() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let edges = [-(1 << 15) - 1, -(1 << 15), -1, 0, 1, (1 << 15) - 1, 1 << 15];
+        for &d1 in &edges {
+            for &d2 in &edges {
+                for &d3 in &edges {
+                    let (a, b, c) = ((7, -3), (7 + d1, -3 + d2), (7 + d3, -3 + d1));
+                    let small = [d1, d2, d3]
+                        .iter()
+                        .all(|d| (-(1 << 15)..1 << 15).contains(d));
+                    let got = signed_area_i32(a, b, c);
+                    assert_eq!(got.is_some(), small, "{d1} {d2} {d3}");
+                    if let Some(s) = got {
+                        assert_eq!(s as i64, signed_area(a, b, c));
+                    }
+                }
+            }
+        }
+        for k in 0..1_000_000u32 {
+            let r = next();
+            let range = 1i64 << (8 + k % 22); // up to 2^29
+            let c = |s: u32| ((r >> s) as i64 % range) as i32;
+            let (a, b, cc) = ((c(0), c(5)), (c(10), c(15)), (c(20), c(25)));
+            if let Some(s) = signed_area_i32(a, b, cc) {
+                assert_eq!(s as i64, signed_area(a, b, cc), "{a:?} {b:?} {cc:?}");
+            }
+        }
     }
 }

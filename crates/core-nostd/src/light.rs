@@ -23,7 +23,7 @@
 //! # let _ = sun;
 //! ```
 
-use crate::fixed::Q16_16;
+use crate::fixed::{Q16_16, Q2_14};
 use crate::math::{dot_q30, mul_wide, normalize_to_q30, pow_q30, Mat4, Vec3, ONE_Q30};
 
 /// An RGB colour, Q16.16 per channel, 0..=1 for inputs.
@@ -510,6 +510,436 @@ impl<S: Specular> LightingSetup<S> {
     }
 }
 
+/// `⌊c·f/2¹⁵⌋` for any `c` and `0 ≤ f ≤ 2¹⁵` (the result fits `i32`): one `SMULL`
+/// on ARMv7-M; on ARMv6-M two 16×16-bit products, `c = ch·2¹⁶ + cl` with `ch`
+/// signed and `cl` unsigned: `2·ch·f + ⌊cl·f/2¹⁵⌋` (|2·ch·f| ≤ 2³¹ … exactly
+/// `−2³¹` at the extreme, `cl·f` < 2³¹). Both give the same bits (tested).
+#[inline(always)]
+fn scale_q15(c: i32, f: i32) -> i32 {
+    debug_assert!((0..=1 << 15).contains(&f));
+    #[cfg(fixshade_v6m)]
+    {
+        scale_q15_split(c, f)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        ((c as i64 * f as i64) >> 15) as i32
+    }
+}
+
+/// [`scale_q15`] from two 16×16-bit products.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+fn scale_q15_split(c: i32, f: i32) -> i32 {
+    2 * ((c >> 16) * f) + (((c & 0xFFFF) * f) >> 15)
+}
+
+/// A Q2.30 unit vector rounded to Q1.15 (components within ±2¹⁵).
+fn to_q15(v: [i32; 3]) -> [i32; 3] {
+    v.map(|c| (c + (1 << 14)) >> 15)
+}
+
+/// Transforms an eye-space direction back to the object's space by the transpose
+/// of the model-view's linear part (a rotation times the uniform scale, whose sign
+/// it keeps): Q2.30 unit vector, `None` for the zero vector.
+fn to_object(mv: &Mat4, d: [i32; 3]) -> Option<[i32; 3]> {
+    // Q32.32 · Q2.30 = Q62, three terms < 2^126 in i128; shifted together into i64.
+    let v: [i128; 3] =
+        core::array::from_fn(|c| (0..3).map(|r| mv.m[r][c] as i128 * d[r] as i128).sum());
+    let max = v.iter().fold(0u128, |m, c| m | c.unsigned_abs());
+    let shift = (128 - max.leading_zeros() as i32 - 62).max(0);
+    normalize_to_q30(v.map(|c| (c >> shift) as i64))
+}
+
+/// The unit normal for lighting from a Q2.14 mesh normal: the normal itself (Q2.14
+/// in `i32`) and `e = |n|² − 2²⁸` (Q28), which [`ndot`] corrects the dot products
+/// by; a normal whose length is off by 2⁻⁸ or more is normalised first (exactly,
+/// [`normalize_to_q30`], rounded to Q2.14), a zero normal replaced by `zero`.
+///
+/// Bounds: |components| ≤ 2¹⁵, so each square ≤ 2³⁰ and their sum ≤ 3·2³⁰ fits
+/// `u32`.
+#[inline(always)]
+fn unit_normal(n: &[Q2_14; 3], zero: ([i32; 3], i32)) -> ([i32; 3], i32) {
+    let v = n.map(|c| c.to_bits() as i32);
+    let sq = (v[0] * v[0]) as u32 + (v[1] * v[1]) as u32 + (v[2] * v[2]) as u32;
+    let e = sq.wrapping_sub(1 << 28) as i32;
+    if e.unsigned_abs() < 1 << 20 {
+        return (v, e);
+    }
+    match normalize_to_q30(v.map(|c| c as i64)) {
+        Some(u) => {
+            let r = u.map(|c| (c + (1 << 15)) >> 16);
+            let sq = (r[0] * r[0]) as u32 + (r[1] * r[1]) as u32 + (r[2] * r[2]) as u32;
+            (r, sq.wrapping_sub(1 << 28) as i32)
+        }
+        None => zero,
+    }
+}
+
+/// `n·l/|n|` for a normal from [`unit_normal`] (Q2.14, `|n|² = 2²⁸ + e` with
+/// |e| < 2²⁰) and a Q1.15 unit vector: Q29. The dot product (each term ≤ 2³⁰, the
+/// sum below |n|·|l| ≤ 2²⁹·1.002) times `1 − e/2²⁹`, the first-order inverse
+/// length (its error (3/8)·(e/2²⁸)² is below 2⁻¹⁷; for a rounded unit normal,
+/// |e/2²⁸| ≲ 2⁻¹², below 2⁻²⁶): the correction from `(dot >> 17)·(e >> 5)` <
+/// 2¹⁴·2¹⁵.
+#[inline(always)]
+fn ndot(n: &[i32; 3], e: i32, l: &[i32; 3]) -> i32 {
+    let d = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+    d - (((d >> 17) * (e >> 5)) >> 7)
+}
+
+/// One light of an [`ObjectLighting`], in the object's space.
+#[derive(Copy, Clone, Debug)]
+struct ObjectLight {
+    kind: ObjectKind,
+    /// la·ka, ld·kd, ls·ks per channel, Q16.16 (as in the eye-space setup).
+    amb: [i32; 3],
+    dif: [i32; 3],
+    spec: [i32; 3],
+    has_spec: bool,
+}
+
+#[derive(Copy, Clone, Debug)]
+enum ObjectKind {
+    Directional {
+        /// Unit direction to the light, Q1.15.
+        l: [i32; 3],
+        /// Half vector for the infinite viewer, Q1.15 (None: L + V = 0).
+        h: Option<[i32; 3]>,
+    },
+    Point {
+        /// Position in the object's Q16.16 units.
+        pos: [i64; 3],
+        /// Attenuation factors, Q16.16.
+        att: [Q16_16; 3],
+    },
+}
+
+/// The vertex stage's lighting of one object: [`LightingSetup::shade`]'s sums, in
+/// the object's own space. The model-view is a similarity (a rigid view, a rotation
+/// and a uniform scale), so `N·L` in eye space is `n·L'` with `n` the mesh's unit
+/// normal and `L' = Rᵀ·L` turned back once per frame (likewise the half vectors,
+/// the point lights' positions, the eye): no normal matrix, no eye-space position
+/// per vertex, and the normal's length is 1 to the Q2.14 rounding, corrected to
+/// first order (`ndot`) without a square root. Directions are Q1.15 and dot
+/// products Q29: 15 bits, the precision of the mesh's normals. Distances to point
+/// lights are scaled back to eye space by the model's scale.
+///
+/// ```
+/// use fixshade::fixed::{Q16_16, Q2_14};
+/// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+/// use fixshade::math::Mat4;
+/// let white = [Q16_16::ONE; 3];
+/// let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white);
+/// let setup: LightingSetup<BlinnExact> =
+///     LightingSetup::new(&[sun], &Mat4::IDENTITY, &Material::default(), [Q16_16::ZERO; 3], false);
+/// let lit = setup.for_object(&Mat4::IDENTITY);
+/// let up = [Q2_14::from_bits(0), Q2_14::from_bits(0), Q2_14::ONE];
+/// // Facing the light: the default diffuse 0.8 (Q16.16), as the eye-space setup.
+/// assert!((lit.shade(&[Q16_16::ZERO; 3], &up)[0] - 52_429).abs() <= 2);
+/// ```
+#[derive(Clone, Debug)]
+pub struct ObjectLighting<S: Specular> {
+    lights: heapless::Vec<ObjectLight, MAX_LIGHTS>,
+    directional: usize,
+    /// emission + global ambient + the directional lights' ambient, Q16.16.
+    base: [i64; 3],
+    /// The viewer (0, 0, 1) in object space, Q1.15.
+    view: [i32; 3],
+    /// The eye's position in object units (a local viewer).
+    eye: Option<[i64; 3]>,
+    /// The model's scale as a Q16.16 factor from object to eye distances.
+    scale: i64,
+    /// A zero normal's replacement (eye-space +z), as [`unit_normal`] returns it.
+    zero: ([i32; 3], i32),
+    spec: S::Params,
+    /// Directional lights only, every colour product in [0, 1] and the base in
+    /// [0, 16]: [`ObjectLighting::shade`] sums in `i32` with 32-bit products.
+    unit: bool,
+}
+
+impl<S: Specular> LightingSetup<S> {
+    /// This setup turned into the space of an object with model-view `mv` (a
+    /// similarity: see [`ObjectLighting`]).
+    pub fn for_object(&self, mv: &Mat4) -> ObjectLighting<S> {
+        // s² from the first column of the linear part (Q64), |s| in Q16.16.
+        let s2: u128 = (0..3)
+            .map(|r| (mv.m[r][0] as i128 * mv.m[r][0] as i128) as u128)
+            .sum();
+        let s = crate::math::isqrt_u128(s2) as i64 >> 16; // Q32 → Q16.16
+                                                          // Object-space point: Rᵀ·(P − t)/s = linᵀ·(P − t)/s², Q16.16.
+        let to_obj_point = |p: [i64; 3]| -> [i64; 3] {
+            core::array::from_fn(|c| {
+                let v: i128 = (0..3)
+                    .map(|r| mv.m[r][c] as i128 * (p[r] - mv.m[r][3]) as i128)
+                    .sum();
+                if s2 == 0 {
+                    0
+                } else {
+                    // Q32.32·Q32.32 = Q64 over Q64: the ratio, in Q16.16.
+                    let q = (v << 16) / s2 as i128;
+                    q.clamp(i64::MIN as i128, i64::MAX as i128) as i64
+                }
+            })
+        };
+        let unit15 = |d: [i32; 3]| to_object(mv, d).map(to_q15);
+        let view = unit15([0, 0, ONE_Q30]).unwrap_or([0, 0, 1 << 15]);
+        let zero = to_object(mv, [0, 0, ONE_Q30]).unwrap_or([0, 0, ONE_Q30]);
+        let zero = unit_normal(
+            &zero.map(|c| Q2_14::from_bits(((c + (1 << 15)) >> 16) as i16)),
+            ([0, 0, 1 << 14], 0),
+        );
+        let mut base = self.base;
+        let mut lights = heapless::Vec::new();
+        for light in &self.lights {
+            let kind = match light.kind {
+                EyeKind::Directional { l, h } => {
+                    for (b, a) in base.iter_mut().zip(light.amb.iter()) {
+                        *b += *a as i64;
+                    }
+                    ObjectKind::Directional {
+                        l: unit15(l).unwrap_or([0, 0, 1 << 15]),
+                        h: h.and_then(unit15),
+                    }
+                }
+                EyeKind::Point { pos, att } => ObjectKind::Point {
+                    pos: to_obj_point(pos.map(|c| (c as i64) << 16)),
+                    att,
+                },
+            };
+            // Cannot overflow: both have MAX_LIGHTS entries.
+            let _ = lights.push(ObjectLight {
+                kind,
+                amb: light.amb,
+                dif: light.dif,
+                spec: light.spec,
+                has_spec: light.has_spec,
+            });
+        }
+        let directional = self.directional.min(self.lights.len());
+        let in_unit = |c: &[i32; 3]| c.iter().all(|v| (0..=1 << 16).contains(v));
+        let unit = directional == lights.len()
+            && base.iter().all(|b| (0..=1 << 20).contains(b))
+            && lights.iter().all(|l| in_unit(&l.dif) && in_unit(&l.spec));
+        ObjectLighting {
+            lights,
+            directional,
+            base,
+            view,
+            eye: if self.local_viewer {
+                Some(to_obj_point([0; 3]))
+            } else {
+                None
+            },
+            scale: s,
+            zero,
+            spec: self.spec,
+            unit,
+        }
+    }
+}
+
+impl<S: Specular> ObjectLighting<S> {
+    /// Whether [`Self::shade`] reads the position (point lights, a local viewer).
+    pub fn needs_position(&self) -> bool {
+        self.directional < self.lights.len() || (S::ENABLED && self.eye.is_some())
+    }
+
+    /// The lit colour of a mesh vertex: position `p` and normal `n` as the mesh
+    /// holds them. Q16.16 channels clamped to [0, 1], as [`LightingSetup::shade`].
+    ///
+    /// Bounds: as [`LightingSetup::shade`]'s; each term is added to an `i64` sum.
+    #[inline]
+    pub fn shade(&self, p: &Vec3, n: &[Q2_14; 3]) -> [i32; 3] {
+        if self.unit {
+            self.shade_unit(p, n)
+        } else {
+            self.shade_wide(p, n)
+        }
+    }
+
+    /// [`Self::shade`] for directional lights whose colour products lie in [0, 1]
+    /// and a base in [0, 16] (Q16.16): the same terms as [`Self::shade_wide`] in
+    /// 32 bits. Each product of a colour (≤ 2¹⁶) and a factor (≤ 2¹⁵, Q15) is at
+    /// most 2³¹ as `u32`; the sum of the base and at most 8 lights' two terms stays
+    /// below 2²⁵.
+    #[inline(always)]
+    fn shade_unit(&self, p: &Vec3, n: &[Q2_14; 3]) -> [i32; 3] {
+        let (n, e) = unit_normal(n, self.zero);
+        let mut acc = self.base.map(|b| b as i32);
+        let view = match (&self.eye, S::ENABLED) {
+            (Some(eye), true) => {
+                let d = core::array::from_fn(|k| eye[k] - p[k].to_bits() as i64);
+                normalize_to_q30(d).map(to_q15).unwrap_or(self.view)
+            }
+            _ => self.view,
+        };
+        let term = |c: i32, f: u32| ((c as u32 * f) >> 15) as i32;
+        for light in &self.lights {
+            let ObjectKind::Directional { l, h } = light.kind else {
+                continue;
+            };
+            let nl = ndot(&n, e, &l);
+            if nl <= 0 {
+                continue;
+            }
+            let f = ((nl >> 14) as u32).min(1 << 15);
+            for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
+                *c += term(*dif, f);
+            }
+            if !S::ENABLED || !light.has_spec {
+                continue;
+            }
+            let h = if self.eye.is_some() {
+                half15(l, view)
+            } else {
+                h
+            };
+            let Some(h) = h else { continue };
+            let nh = ndot(&n, e, &h);
+            if nh <= 0 {
+                continue;
+            }
+            let s = S::eval_wide(&self.spec, (nh << 1).min(ONE_Q30));
+            if s <= 1 << 30 {
+                let f = (s >> 15) as u32;
+                for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
+                    *c += term(*sp, f);
+                }
+            } else {
+                // A model above 1 (at most 2^36, Q.30): the colour (≤ 2^16) times
+                // s >> 14 (< 2^22), in 64 bits; saturated, the sum stays in i32.
+                for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
+                    let t = (*sp as i64 * (s >> 14) as i64) >> 16;
+                    *c = (*c as i64 + t).min(1 << 30) as i32;
+                }
+            }
+        }
+        acc.map(|c| c.clamp(0, 1 << 16))
+    }
+
+    /// [`Self::shade`] for any lights and colours, summed in `i64`.
+    fn shade_wide(&self, p: &Vec3, n: &[Q2_14; 3]) -> [i32; 3] {
+        let (n, e) = unit_normal(n, self.zero);
+        let mut acc = self.base;
+        // The viewer direction at this vertex (Q1.15): only a local viewer's varies.
+        let view = match (&self.eye, S::ENABLED) {
+            (Some(eye), true) => {
+                let d = core::array::from_fn(|k| eye[k] - p[k].to_bits() as i64);
+                normalize_to_q30(d).map(to_q15).unwrap_or(self.view)
+            }
+            _ => self.view,
+        };
+        let (dirs, points) = self.lights.split_at(self.directional);
+        for light in dirs {
+            let ObjectKind::Directional { l, h } = light.kind else {
+                continue;
+            };
+            let nl = ndot(&n, e, &l);
+            if nl <= 0 {
+                continue;
+            }
+            // Q29 → Q15, at most 1.
+            let f = (nl >> 14).min(1 << 15);
+            for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
+                *c += scale_q15(*dif, f) as i64;
+            }
+            if !S::ENABLED || !light.has_spec {
+                continue;
+            }
+            let h = if self.eye.is_some() {
+                half15(l, view)
+            } else {
+                h
+            };
+            if let Some(h) = h {
+                self.add_specular(&mut acc, light, &n, e, &h, None);
+            }
+        }
+        for light in points {
+            let ObjectKind::Point { pos, att } = light.kind else {
+                continue;
+            };
+            let d: [i64; 3] = core::array::from_fn(|k| pos[k] - p[k].to_bits() as i64);
+            let Some(l30) = normalize_to_q30(d) else {
+                continue;
+            };
+            let l = to_q15(l30);
+            // Eye-space distance: the object's scale times the object-space one.
+            let dist = crate::math::mul_q16_u64(crate::math::length(d), self.scale);
+            let a = attenuation_at(dist, att);
+            for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
+                *c += mul_wide(*amb, a) >> 16;
+            }
+            let nl = ndot(&n, e, &l);
+            if nl <= 0 {
+                continue;
+            }
+            // att·(N·L): Q16.16 · Q29 → Q16.16, below 2³¹.
+            let f = (mul_wide(a, nl) >> 29) as i32;
+            for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
+                *c += mul_wide(*dif, f) >> 16;
+            }
+            if !S::ENABLED || !light.has_spec {
+                continue;
+            }
+            if let Some(h) = half15(l, view) {
+                self.add_specular(&mut acc, light, &n, e, &h, Some(a));
+            }
+        }
+        acc.map(|c| c.clamp(0, 1 << 16) as i32)
+    }
+
+    /// The specular term of one light for the half vector `h` (Q1.15), as
+    /// [`LightingSetup::shade`] adds it: `cⁿ` from the [`Specular`] model of
+    /// `c = N·H`, times the attenuation (`None`: exactly 1).
+    #[inline(always)]
+    fn add_specular(
+        &self,
+        acc: &mut [i64; 3],
+        light: &ObjectLight,
+        n: &[i32; 3],
+        e: i32,
+        h: &[i32; 3],
+        att: Option<i32>,
+    ) {
+        let nh = ndot(n, e, h);
+        if nh <= 0 {
+            return;
+        }
+        // Q29 → Q30 (below 2^31), at most 1.
+        let s = S::eval_wide(&self.spec, (nh << 1).min(ONE_Q30));
+        if att.is_none() && s <= 1 << 30 {
+            // The usual case: a factor in [0, 1], Q15.
+            let f = (s >> 15) as i32;
+            for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
+                *c += scale_q15(*sp, f) as i64;
+            }
+            return;
+        }
+        // As in `add_light`: s ≤ 2^36 (Q.30), att < 2^31 (Q16.16).
+        let f = match att {
+            None => s >> 14,
+            Some(a) => {
+                let (hi, lo) = ((s >> 30) as i32, (s & ((1 << 30) - 1)) as i32);
+                ((mul_wide(a, hi) << 30) + mul_wide(a, lo)) as u64 >> 30
+            }
+        };
+        for (c, sp) in acc.iter_mut().zip(light.spec.iter()) {
+            *c += if f < 1 << 31 {
+                mul_wide(*sp, f as i32) >> 16
+            } else {
+                (mul_wide(*sp, (f >> 16) as i32)) + (mul_wide(*sp, (f & 0xFFFF) as i32) >> 16)
+            };
+        }
+    }
+}
+
+/// The half vector of two Q1.15 unit vectors, Q1.15 (`None` if they are opposite).
+fn half15(l: [i32; 3], v: [i32; 3]) -> Option<[i32; 3]> {
+    normalize_to_q30(core::array::from_fn(|k| (l[k] + v[k]) as i64)).map(to_q15)
+}
+
 impl<S: Specular> crate::raster::phong::PixelLight for LightingSetup<S> {
     #[inline]
     fn light(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
@@ -848,8 +1278,7 @@ impl<S: Specular> LightingSetup<S> {
 
 /// Length of a Q16.16 offset, Q16.16 (components < 2^32 raw: squares summed in u128).
 fn length_q16(d: [i64; 3]) -> i64 {
-    let sq: u128 = d.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
-    crate::math::isqrt_u128(sq) as i64
+    crate::math::length(d).min(i64::MAX as u64) as i64
 }
 
 fn half(l: [i32; 3], v: [i32; 3]) -> Option<[i32; 3]> {
@@ -861,22 +1290,57 @@ fn half(l: [i32; 3], v: [i32; 3]) -> Option<[i32; 3]> {
 }
 
 /// `1 / (c + l·d + q·d²)` in Q16.16 for the Q16.16 offset `d` (saturating just
-/// below 2¹⁵).
+/// below 2¹⁵): [`attenuation_at`] of its length ([`crate::math::length`]).
 fn attenuation(d: [i64; 3], att: [Q16_16; 3]) -> i32 {
-    // |d| components < 2^32 raw: squares < 2^64, so sum in u128.
-    let sq: u128 = d.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
-    let dist = crate::math::isqrt_u128(sq) as i128; // Q16.16
-    let (c, l, q) = (
-        att[0].to_bits() as i128,
-        att[1].to_bits() as i128,
-        att[2].to_bits() as i128,
-    );
-    // Denominator in Q.32: c·2^16 + l·d + q·d²/2^16.
-    let den = (c << 16) + l * dist + ((q * dist * dist) >> 16);
-    if den <= 0 {
+    attenuation_at(crate::math::length(d), att)
+}
+
+/// `1 / (c + l·dist + q·dist²)` in Q16.16 for a Q16.16 distance (taken as at most
+/// 65536 units), saturating at `i32::MAX` (just below 2¹⁵): no `i128`, no division.
+/// The denominator in Q.32 from 32×32-bit products (`u64`, saturating: `l·dist` <
+/// 2⁶³, `q·dist²/2¹⁶` from the two words of `dist²`), its reciprocal by
+/// [`crate::math::recip_q61`] of its top 31 bits: within 2⁻²⁸ of `2⁴⁸/den`,
+/// relatively, and one unit (tested against the exact value).
+fn attenuation_at(dist: u64, att: [Q16_16; 3]) -> i32 {
+    use crate::math::{leading_zeros, mul_wide_u, recip_q61};
+    let [c, l, q] = att.map(|v| v.to_bits().max(0) as u32);
+    let d = dist.min(u32::MAX as u64) as u32;
+    let d2 = mul_wide_u(d, d); // dist², Q32.32
+    let t2_hi = mul_wide_u(q, (d2 >> 32) as u32);
+    let t2 = if t2_hi >= 1 << 48 {
+        u64::MAX
+    } else {
+        (t2_hi << 16) + (mul_wide_u(q, d2 as u32) >> 16)
+    };
+    let den = ((c as u64) << 16)
+        .saturating_add(mul_wide_u(l, d))
+        .saturating_add(t2);
+    if den == 0 {
         return i32::MAX;
     }
-    ((1i128 << 48) / den).min(i32::MAX as i128) as i32
+    // den = m·2^(33 − k) with m its top 31 bits in [2^30, 2^31), k its leading zeros.
+    let (hi, lo) = ((den >> 32) as u32, den as u32);
+    let (k, top) = if hi != 0 {
+        let z = leading_zeros(hi);
+        (
+            z,
+            if z == 0 {
+                hi
+            } else {
+                (hi << z) | (lo >> (32 - z))
+            },
+        )
+    } else {
+        let z = leading_zeros(lo);
+        (32 + z, lo << z)
+    };
+    let r = recip_q61(top >> 1); // 2^61/m, in (2^30, 2^31)
+                                 // 2^48/den = 2^(15 + k)/m = r·2^(k − 46): above 2^31 for k > 46.
+    match k {
+        47.. => i32::MAX,
+        15..=46 => (r >> (46 - k)).min(i32::MAX as u32) as i32,
+        _ => 0,
+    }
 }
 
 #[cfg(test)]
@@ -1072,6 +1536,122 @@ mod tests {
                 .expect("non-zero")
         });
         assert!(setup.diffuse_bound(&lit, &p) < 600);
+    }
+
+    /// Both forms of the colour product give the same bits, over every sign and
+    /// the whole range of the factor.
+    #[test]
+    fn scale_q15_split_equals_native() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        for k in 0..1_000_000u32 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let c = match k {
+                0 => i32::MIN,
+                1 => i32::MAX,
+                _ => (seed as i32) >> (seed >> 59),
+            };
+            let f = ((seed >> 32) % ((1 << 15) + 1)) as i32;
+            assert_eq!(
+                scale_q15_split(c, f),
+                ((c as i64 * f as i64) >> 15) as i32,
+                "{c} {f}"
+            );
+        }
+    }
+
+    /// The attenuation without `i128` or division against `2⁴⁸/den` for the exact
+    /// Q.32 denominator `c·2¹⁶ + l·d + ⌊q·d²/2¹⁶⌋`: within 2⁻²⁸ relatively, one unit.
+    #[test]
+    fn attenuation_matches_exact() {
+        let mut seed = 0x1111_2222_3333_4444u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for k in 0..200_000u32 {
+            let r = next();
+            let att = [
+                Q16_16::from_bits((r % (4 << 16)) as i32 * (k % 2) as i32),
+                Q16_16::from_bits(((r >> 20) % (1 << 16)) as i32),
+                Q16_16::from_bits(((r >> 40) % (1 << 14)) as i32 * (k % 3 / 2) as i32),
+            ];
+            let d = (next() >> (28 + k % 30)).min(u32::MAX as u64);
+            let (c, l, q) = (
+                att[0].to_bits() as i128,
+                att[1].to_bits() as i128,
+                att[2].to_bits() as i128,
+            );
+            let d128 = d as i128;
+            let den = (c << 16) + l * d128 + ((q * d128 * d128) >> 16);
+            let want = if den <= 0 {
+                i32::MAX as f64
+            } else {
+                ((1i128 << 48) as f64 / den as f64).min(i32::MAX as f64)
+            };
+            let got = attenuation_at(d, att) as f64;
+            assert!(
+                (got - want).abs() <= want * 2f64.powi(-28) + 1.0,
+                "{att:?} d {d}: {got} vs {want}"
+            );
+        }
+    }
+
+    /// The 32-bit sums of directional lights in unit colours give the 64-bit
+    /// sums' colours, with and without a local viewer.
+    #[test]
+    fn unit_sums_equal_wide_sums() {
+        use crate::fixed::Angle;
+        let mut seed = 0x4242_1717_abab_cdcdu64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for round in 0..40 {
+            let c = |r: u64| Q16_16::from_bits((r % (1 << 16)) as i32);
+            let sun = |r: u64, d: [i32; 3]| Light {
+                ambient: [c(r >> 3); 3],
+                ..Light::directional(
+                    d.map(|v| Q16_16::from_bits(v << 12)),
+                    [c(r), c(r >> 7), c(r >> 11)],
+                    [c(r >> 17); 3],
+                )
+            };
+            let lights = [sun(next(), [1, 2, 3]), sun(next(), [-3, 1, 1])];
+            let mat = Material {
+                specular: [c(next()); 3],
+                shininess: Q16_16::from_int(1 + (next() % 60) as i32),
+                ..Material::default()
+            };
+            let setup = LightingSetup::<BlinnExact>::new(
+                &lights,
+                &Mat4::IDENTITY,
+                &mat,
+                [c(next() >> 2); 3],
+                round % 2 == 0,
+            );
+            let mv = Mat4::translate([Q16_16::ONE, Q16_16::ZERO, Q16_16::from_int(-4)])
+                .mul(&Mat4::rotate_y(Angle::from_degrees(round * 17)))
+                .mul(&Mat4::rotate_x(Angle::from_degrees(round * 7)));
+            let lit = setup.for_object(&mv);
+            assert!(lit.unit);
+            for _ in 0..500 {
+                let n = [0, 0, 0]
+                    .map(|_: i32| Q2_14::from_bits(((next() % 32768) as i32 - 16384) as i16));
+                let p = [0, 0, 0]
+                    .map(|_: i32| Q16_16::from_bits(((next() % (1 << 18)) as i32) - (1 << 17)));
+                assert_eq!(
+                    lit.shade_unit(&p, &n),
+                    lit.shade_wide(&p, &n),
+                    "{n:?} {p:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -119,9 +119,9 @@ pub(crate) fn mul_wide_u_split(a: u32, b: u32) -> u64 {
     (((ah * bh) as u64) << 32) + (mid << 16) + (al * bl) as u64
 }
 
-/// Leading zero bits of `x` (32 for 0): `CLZ` where the core has it, a five-step
-/// binary search on ARMv6-M (which has no `CLZ`; the library's `leading_zeros` would
-/// call `__clzsi2` there).
+/// Leading zero bits of `x` (32 for 0): `CLZ` where the core has it, two halving
+/// steps and a 256-byte table on ARMv6-M (which has no `CLZ`; the library's
+/// `leading_zeros` would call `__clzsi2` there).
 ///
 /// ```
 /// use fixshade::math::leading_zeros;
@@ -139,7 +139,21 @@ pub fn leading_zeros(x: u32) -> u32 {
     }
 }
 
-/// [`leading_zeros`] by binary search (16, 8, 4, 2, 1 bits).
+/// Leading zeros of a byte's values 1..=255 within the byte (`CLZ8[0]` unused):
+/// 256 bytes of flash for [`leading_zeros_search`].
+#[cfg(any(test, fixshade_v6m))]
+const CLZ8: [u8; 256] = {
+    let mut t = [8u8; 256];
+    let mut i = 1;
+    while i < 256 {
+        t[i] = (i as u32).leading_zeros() as u8 - 24;
+        i += 1;
+    }
+    t
+};
+
+/// [`leading_zeros`] by two halving steps (16, 8 bits) and a table of the top
+/// byte's leading zeros.
 #[cfg(any(test, fixshade_v6m))]
 #[inline(always)]
 pub(crate) fn leading_zeros_search(mut x: u32) -> u32 {
@@ -155,18 +169,7 @@ pub(crate) fn leading_zeros_search(mut x: u32) -> u32 {
         n += 8;
         x <<= 8;
     }
-    if x >> 28 == 0 {
-        n += 4;
-        x <<= 4;
-    }
-    if x >> 30 == 0 {
-        n += 2;
-        x <<= 2;
-    }
-    if x >> 31 == 0 {
-        n += 1;
-    }
-    n
+    n + CLZ8[(x >> 24) as usize] as u32
 }
 
 /// `x >> s` for an `i64` and `s` < 64 (arithmetic), from 32-bit shifts: ARMv6-M
@@ -298,6 +301,140 @@ pub fn recip_q61(m: u32) -> u32 {
         k += 1;
     }
     r
+}
+
+/// Knots of [`recip_seed`]: `RECIP_KNOTS[j] = ⌊2²⁴/(256 + j) + ½⌋ − 2¹⁵` for
+/// j = 0..=256, the reciprocal at the ends of the 256 buckets of [2³⁰, 2³¹) (514
+/// bytes of flash; the offset keeps 2¹⁶ at j = 0 within `u16`).
+const RECIP_KNOTS: [u16; 257] = {
+    let mut t = [0u16; 257];
+    let mut j = 0;
+    while j < 257 {
+        // 2^24/(256 + j) rounded: (2^25/(256 + j) + 1)/2.
+        t[j] = (((1u32 << 25) / (256 + j as u32)).div_ceil(2) - (1 << 15)) as u16;
+        j += 1;
+    }
+    t
+};
+
+/// The reciprocal of `m` in [2³⁰, 2³¹) as the vertex stage uses it, from 32-bit
+/// products only (four `MULS` on ARMv6-M, no 64-bit product, no division): a seed
+/// `r0 ≈ 2⁴⁶/m` in (2¹⁵, 2¹⁶], interpolated between the two `RECIP_KNOTS` around
+/// `m` (relative error below 2⁻¹⁴·⁵: the chord, the knots' rounding and the
+/// rounded slope), and the Newton residual `e ≈ 2³¹·(1 − m·r0/2⁴⁶)`, |e| < 2¹⁷
+/// (tested), so that `2⁴⁶/m = r0·(1 + e/2³¹)` to second order
+/// ([`recip_refined`] applies the step).
+///
+/// Bounds: the knots differ by at most 2⁸ + 1 and the bucket fraction is below
+/// 2¹⁵ (product below 2²⁴); `(m >> 15)·r0` < 2¹⁶·2¹⁶ fits `u32` (and lies within
+/// 2⁻¹⁴ of 2³¹, so its difference from 2³¹ fits `i32`); `(m mod 2¹⁵)·r0` < 2³¹.
+///
+/// ```
+/// use fixshade::math::recip_seed;
+/// let (r0, e) = recip_seed(3 << 29); // m = 1.5·2^30: 2^46/m = 43690.67
+/// assert!((r0 - 43691).abs() <= 1 && e.abs() < 1 << 17);
+/// ```
+#[inline(always)]
+pub fn recip_seed(m: u32) -> (i32, i32) {
+    debug_assert!((1 << 30..1 << 31).contains(&m));
+    let i = ((m >> 22) & 0xFF) as usize;
+    let f = ((m >> 7) & 0x7FFF) as i32;
+    let t0 = RECIP_KNOTS[i] as i32 + (1 << 15);
+    let t1 = RECIP_KNOTS[i + 1] as i32 + (1 << 15);
+    let r0 = t0 - (((t0 - t1) * f + (1 << 14)) >> 15);
+    let a = (1u32 << 31).wrapping_sub((m >> 15) * r0 as u32) as i32;
+    let e = a - (((m & 0x7FFF) * r0 as u32) >> 15) as i32;
+    (r0, e)
+}
+
+/// `2⁶¹/m` for `m` in [2³⁰, 2³¹) from its seed ([`recip_seed`]): `r0·2¹⁵` corrected
+/// by one Newton step, `r0·2¹⁵·(1 + e/2³¹)` (the correction from a 17×15-bit
+/// product, at least −2³¹), minus 2: within 2⁻²⁷ of the exact value, relatively,
+/// and below it, so below 2³¹ (tested). Four 32-bit products in all, no 64-bit one.
+///
+/// ```
+/// use fixshade::math::recip_refined;
+/// let m = 1_234_567_890u32;
+/// let want = ((1u64 << 61) / m as u64) as i64;
+/// assert!((recip_refined(m) as i64 - want).abs() < 32);
+/// ```
+#[inline(always)]
+pub fn recip_refined(m: u32) -> i32 {
+    let (r0, e) = recip_seed(m);
+    // r0·2^15 ≤ 2^31 and r0·(e >> 2) ≥ −2^31, summed as `u32`. Newton's step
+    // approaches 1/m from below, and the truncations add less than one unit: minus
+    // 2 the result lies below 2^61/m ≤ 2^31, so it is a positive `i32`.
+    ((r0 as u32) << 15)
+        .wrapping_add(((r0 * (e >> 2)) >> 14) as u32)
+        .wrapping_sub(2) as i32
+}
+
+/// `⌊kh·r/2³²⌋` for `kh = k·2¹⁶` with `0 ≤ k < 2¹⁵` and `0 ≤ r < 2³¹`: a
+/// per-frame constant times a reciprocal. One `SMMUL` on ARMv7E-M ([`mul_hi`]); on
+/// ARMv6-M the low half of `kh` is zero, so two 16×16-bit products suffice:
+/// `k·⌊r/2¹⁶⌋ + ⌊k·(r mod 2¹⁶)/2¹⁶⌋` (each product below 2³¹). Both give the
+/// same bits (tested).
+///
+/// ```
+/// use fixshade::math::mul_hi_k;
+/// assert_eq!(mul_hi_k(3 << 16, 1 << 30), 3 << 14);
+/// ```
+#[inline(always)]
+pub fn mul_hi_k(kh: i32, r: i32) -> i32 {
+    debug_assert!(kh & 0xFFFF == 0 && kh >= 0 && r >= 0);
+    #[cfg(fixshade_v6m)]
+    {
+        mul_hi_k_split(kh, r)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        mul_hi(kh, r)
+    }
+}
+
+/// [`mul_hi_k`] from two 16×16-bit products.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn mul_hi_k_split(kh: i32, r: i32) -> i32 {
+    let k = kh >> 16;
+    k * (r >> 16) + ((k * (r & 0xFFFF)) >> 16)
+}
+
+/// `⌊a·b / 2³²⌋` exactly: one `SMMUL` on ARMv7E-M (the high word of `SMULL`
+/// elsewhere); on ARMv6-M four 16×16-bit products whose carries into the high word
+/// are added exactly (see `mul_hi_split`). Both give the same bits (tested).
+///
+/// ```
+/// use fixshade::math::mul_hi;
+/// assert_eq!(mul_hi(1 << 30, 1 << 30), 1 << 28);
+/// assert_eq!(mul_hi(-1, 1), -1); // the floor
+/// ```
+#[inline(always)]
+pub fn mul_hi(a: i32, b: i32) -> i32 {
+    #[cfg(fixshade_v6m)]
+    {
+        mul_hi_split(a, b)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        ((a as i64 * b as i64) >> 32) as i32
+    }
+}
+
+/// [`mul_hi`] from 16×16-bit products: with `a = ah·2¹⁶ + al` and `b = bh·2¹⁶ +
+/// bl` (high halves signed, low halves unsigned), `a·b = ah·bh·2³² + (ah·bl +
+/// al·bh)·2¹⁶ + al·bl`; the middle products (each |·| < 2³¹) are split into their
+/// high and low halves, and the low halves, with the high half of `al·bl`, summed
+/// (below 3·2¹⁶) to give the carry into the high word.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn mul_hi_split(a: i32, b: i32) -> i32 {
+    let (ah, al) = (a >> 16, a & 0xFFFF);
+    let (bh, bl) = (b >> 16, b & 0xFFFF);
+    let (m1, m2) = (ah * bl, al * bh);
+    let ll = (al as u32).wrapping_mul(bl as u32);
+    let carry = ((ll >> 16) as i32 + (m1 & 0xFFFF) + (m2 & 0xFFFF)) >> 16;
+    ah * bh + (m1 >> 16) + (m2 >> 16) + carry
 }
 
 /// Floor of the square root of a `u128` (the core library's exact integer root).
@@ -777,6 +914,315 @@ impl ClipMatrix {
     }
 }
 
+/// The clip-space z of a perspective projection as a function of w, for the
+/// clipper: `z = w·a + ⌊w·frac/2³⁰⌋ + bz`, with `a + frac/2³⁰` the projection's
+/// `(far + near)/(far − near)` (`a ≥ 1`) and `bz` its constant term in the frame's
+/// clip units. Both terms grow with w, by at least 1 per unit step, so the near
+/// and far planes (`z ≥ −w`, `z ≤ w`) are two thresholds on w
+/// ([`crate::geometry::Projector`] finds them; the vertex stage tests w against
+/// them and needs no z).
+///
+/// ```
+/// use fixshade::math::ZFromW;
+/// // z = 2·w − 10: the near plane z = −w at w = 10/3, the far plane z = w at w = 10.
+/// let f = ZFromW { a: 2, frac: 0, bz: -10 };
+/// assert!(f.z(3) < -3 && f.z(4) >= -4);
+/// assert!(f.z(10) <= 10 && f.z(11) > 11);
+/// ```
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct ZFromW {
+    /// Integer part of the slope, 1..2³¹.
+    pub a: i32,
+    /// Fraction of the slope, Q0.30.
+    pub frac: i32,
+    /// Constant term (clip units).
+    pub bz: i64,
+}
+
+impl ZFromW {
+    /// z for a given w (`i64`: |w·a| < 2⁶², the fraction's product below 2⁶¹).
+    ///
+    /// ```
+    /// use fixshade::math::ZFromW;
+    /// // z = 1.5·w − 100
+    /// let f = ZFromW { a: 1, frac: 1 << 29, bz: -100 };
+    /// assert_eq!(f.z(1000), 1400);
+    /// ```
+    #[inline]
+    pub fn z(&self, w: i32) -> i64 {
+        mul_wide(w, self.a) + (mul_wide(w, self.frac) >> 30) + self.bz
+    }
+}
+
+/// How [`VertexTransform`] takes a mesh's positions before the products.
+///
+/// ```
+/// use fixshade::math::{Mat4, PositionShift, VertexTransform};
+/// // A mesh within ±1/4 (2^14 raw) is shifted left to 17 bits, one within ±1 (17 bits)
+/// // taken as it is, one within ±100 rounded to 19 bits.
+/// let t = |bound| VertexTransform::new(&Mat4::IDENTITY, 16, bound, 30, None).unwrap();
+/// assert_eq!(t(1 << 14).form().1, PositionShift::Left);
+/// assert_eq!(t(1 << 16).form().1, PositionShift::None);
+/// assert_eq!(t(100 << 16).form().1, PositionShift::Right);
+/// ```
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum PositionShift {
+    /// As they are (the mesh spans exactly 17 or 19 bits).
+    #[default]
+    None,
+    /// Shifted left (exact; smaller meshes).
+    Left,
+    /// Rounded to 19 bits (meshes beyond ±8 units).
+    Right,
+}
+
+/// The vertex stage's transform of one mesh for one frame: clip coordinates
+/// (x, y, z, w) in `i32` from Q16.16 positions, with 32-bit products only on
+/// ARMv6-M and three `SMULL`/`SMLAL` per row on ARMv7-M, the same bits on both.
+///
+/// Each row is `C = ⌊Σᵢ Mᵢ·pᵢ / 2ˢ⌋ + t`, `s = 30 − P` (13 or 11): the positions
+/// `p` are the mesh's brought to `P` = 17 bits (meshes within ±2 units; smaller ones
+/// shifted left, exactly) or 19 bits (larger ones; beyond ±8 units rounded,
+/// `p = ⌊(q + 2ᵇ⁻¹)/2ᵇ⌋`), so `|p| ≤ 2ᴾ`, and the entries `M` and `t` are the
+/// model-view-projection matrix in the frame's clip units
+/// ([`crate::geometry::Projector`]), scaled to match and rounded (relative error
+/// below 2⁻²⁵ of the row's bound). The frame's scale keeps every `|C|` of the mesh
+/// below 2³⁰ (w below 2³⁰ over the guard exponent).
+///
+/// ARMv6-M splits each entry as `M = h·2ˢ + l` with `l` in [−2ˢ⁻¹, 2ˢ⁻¹): then
+/// `⌊Σ M·p/2ˢ⌋ = Σ h·p + ⌊Σ l·p/2ˢ⌋` exactly, `|Σ l·p|` ≤ 3·2ˢ⁻¹⁺ᴾ = 3·2²⁹ and
+/// `|Σ h·p|` ≤ |C| + |t| + 3·2ᴾ⁻¹ fit `i32`. ARMv7-M sums the exact 64-bit products
+/// (each below 2⁶¹) and takes the 32 bits above bit `s`.
+///
+/// For a perspective projection the vertex stage needs only x, y and w; the
+/// clipper's z comes from w ([`ZFromW`]).
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::math::{Mat4, VertexTransform};
+/// // The identity at 2^20 clip units per unit, for a mesh within ±1: x, y and w in i32.
+/// let t = VertexTransform::new(&Mat4::IDENTITY, 20, 1 << 16, 30, None).unwrap();
+/// let (s, _) = t.form();
+/// let p = [Q16_16::from_ratio(1, 2), Q16_16::ZERO, Q16_16::ZERO];
+/// let xyw = if s == 13 { t.xyw::<13, 1>(&p) } else { t.xyw::<11, 1>(&p) };
+/// assert_eq!(xyw, [1 << 19, 0, 1 << 20]);
+/// ```
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct VertexTransform {
+    m: [[i32; 3]; 4],
+    hi: [[i32; 3]; 4],
+    lo: [[i32; 3]; 4],
+    t: [i32; 4],
+    s: u32,
+    shift: PositionShift,
+    /// Left shift, or right shift and its rounding.
+    a: u32,
+    b: u32,
+    round: i32,
+    persp: Option<ZFromW>,
+}
+
+impl VertexTransform {
+    /// The transform of a mesh whose |coordinates| are at most `bound` (raw
+    /// Q16.16) under the Q32.32 model-view-projection `clip`, in clip units of
+    /// `2^scale` per clip-space unit. `persp` gives z from w (perspective
+    /// projections); without it z is the matrix's third row. `None` if an entry
+    /// does not fit or a row of the mesh could reach 2³⁰ (2^`w_bits` for w): the
+    /// frame's scale is chosen so that neither happens.
+    pub fn new(
+        clip: &Mat4,
+        scale: i32,
+        bound: i32,
+        w_bits: u32,
+        persp: Option<ZFromW>,
+    ) -> Option<VertexTransform> {
+        let bits = (32 - (bound.max(0) as u32).leading_zeros()) as i32;
+        let p = if bits <= 17 { 17 } else { 19 };
+        let (a, b) = ((p - bits).max(0), (bits - p).max(0));
+        let shift = match (a, b) {
+            (0, 0) => PositionShift::None,
+            (_, 0) => PositionShift::Left,
+            _ => PositionShift::Right,
+        };
+        let s = 30 - p;
+        // M = m·2^(scale + b − a − 16 + s − 32) (m in Q32.32, positions Q16.16
+        // shifted by a or b), t = m·2^(scale − 32); rounded to nearest.
+        let scaled = |v: i64, e: i32| -> Option<i32> {
+            let v = v as i128;
+            let r = if e >= 0 {
+                v.checked_shl(e as u32).filter(|x| (x >> e) == v)?
+            } else {
+                let k = (-e).min(127) as u32;
+                (v + ((1i128 << k) >> 1)) >> k
+            };
+            i32::try_from(r).ok()
+        };
+        let mut m = [[0i32; 3]; 4];
+        let mut t = [0i32; 4];
+        for ((mr, tr), cr) in m.iter_mut().zip(t.iter_mut()).zip(clip.m.iter()) {
+            for (e, c) in mr.iter_mut().zip(cr.iter()) {
+                *e = scaled(*c, scale + b - a + s - 48)?;
+            }
+            *tr = scaled(cr[3], scale - 32)?;
+        }
+        // Every row within its limit for any |position| ≤ pmax (plus the floor).
+        let pmax = if b > 0 {
+            1i64 << p
+        } else {
+            (bound.max(0) as i64) << a
+        };
+        for (r, (row, tr)) in m.iter().zip(t.iter()).enumerate() {
+            if r == 2 && persp.is_some() {
+                continue; // z comes from w
+            }
+            let sum: i64 = row
+                .iter()
+                .map(|v| (v.unsigned_abs() as i64 * pmax) >> s)
+                .sum();
+            let lim = if r == 3 { 1i64 << w_bits } else { 1 << 30 };
+            if sum + tr.unsigned_abs() as i64 + 4 > lim {
+                return None;
+            }
+        }
+        let half = 1i64 << (s - 1);
+        let hi = m.map(|row| row.map(|v| ((v as i64 + half) >> s) as i32));
+        let mut lo = [[0i32; 3]; 4];
+        for r in 0..4 {
+            for i in 0..3 {
+                lo[r][i] = (m[r][i] as i64 - ((hi[r][i] as i64) << s)) as i32;
+            }
+        }
+        Some(VertexTransform {
+            m,
+            hi,
+            lo,
+            t,
+            s: s as u32,
+            shift,
+            a: a as u32,
+            b: b as u32,
+            round: if b > 0 { 1 << (b - 1) } else { 0 },
+            persp,
+        })
+    }
+
+    /// The row shift `s` (13 or 11) and how the positions are taken: the
+    /// monomorphisation [`Self::xyw`] and [`Self::xyzw`] need.
+    #[inline(always)]
+    pub fn form(&self) -> (u32, PositionShift) {
+        (self.s, self.shift)
+    }
+
+    /// The positions as the products take them (`SH`: 0 none, 1 left, 2 right).
+    #[inline(always)]
+    fn input<const SH: u8>(&self, q: &Vec3) -> [i32; 3] {
+        q.map(|c| match SH {
+            0 => c.to_bits(),
+            1 => c.to_bits() << self.a,
+            _ => (c.to_bits() + self.round) >> self.b,
+        })
+    }
+
+    /// Row `r` (0 x, 1 y, 2 z, 3 w) for the prepared positions `p`, `S` = `s`.
+    #[inline(always)]
+    fn row<const S: u32>(&self, r: usize, p: &[i32; 3]) -> i32 {
+        #[cfg(fixshade_v6m)]
+        {
+            self.row_split::<S>(r, p)
+        }
+        #[cfg(not(fixshade_v6m))]
+        {
+            self.row_wide::<S>(r, p)
+        }
+    }
+
+    /// [`Self::row`] from the exact 64-bit sum: `⌊sum/2ˢ⌋` (the result fits `i32`,
+    /// see the type's bounds; two instructions from the two words).
+    #[cfg_attr(fixshade_v6m, allow(dead_code))]
+    #[inline(always)]
+    fn row_wide<const S: u32>(&self, r: usize, p: &[i32; 3]) -> i32 {
+        let m = &self.m[r];
+        let acc = mul_wide(m[0], p[0]) + mul_wide(m[1], p[1]) + mul_wide(m[2], p[2]);
+        (acc >> S) as i32 + self.t[r]
+    }
+
+    /// [`Self::row`] from the split entries with 32-bit products.
+    #[cfg(any(test, fixshade_v6m))]
+    #[inline(always)]
+    fn row_split<const S: u32>(&self, r: usize, p: &[i32; 3]) -> i32 {
+        let (h, l) = (&self.hi[r], &self.lo[r]);
+        let high = h[0] * p[0] + h[1] * p[1] + h[2] * p[2];
+        let low = l[0] * p[0] + l[1] * p[1] + l[2] * p[2];
+        high + (low >> S) + self.t[r]
+    }
+
+    /// x, y and w of a mesh position, for `(S, SH)` matching [`Self::form`] (`SH`: 0
+    /// [`PositionShift::None`], 1 `Left`, 2 `Right`).
+    #[inline(always)]
+    pub fn xyw<const S: u32, const SH: u8>(&self, q: &Vec3) -> [i32; 3] {
+        debug_assert_eq!(S, self.s);
+        let p = self.input::<SH>(q);
+        [
+            self.row::<S>(0, &p),
+            self.row::<S>(1, &p),
+            self.row::<S>(3, &p),
+        ]
+    }
+
+    /// x, y, z and w of a mesh position (z from the third row), as [`Self::xyw`].
+    #[inline(always)]
+    pub fn xyzw<const S: u32, const SH: u8>(&self, q: &Vec3) -> [i32; 4] {
+        debug_assert_eq!(S, self.s);
+        let p = self.input::<SH>(q);
+        [
+            self.row::<S>(0, &p),
+            self.row::<S>(1, &p),
+            self.row::<S>(2, &p),
+            self.row::<S>(3, &p),
+        ]
+    }
+
+    /// All four rows, any form.
+    fn rows(&self, q: &Vec3) -> [i32; 4] {
+        match (self.s, self.shift) {
+            (13, PositionShift::None) => self.xyzw::<13, 0>(q),
+            (13, _) => self.xyzw::<13, 1>(q),
+            (_, PositionShift::Right) => self.xyzw::<11, 2>(q),
+            _ => self.xyzw::<11, 1>(q),
+        }
+    }
+
+    /// The clip coordinates of a mesh position, as the clipper takes them: the
+    /// vertex stage's x, y and w, and z from w under a perspective projection.
+    ///
+    /// ```
+    /// use fixshade::fixed::Q16_16;
+    /// use fixshade::math::{Mat4, VertexTransform};
+    /// // The identity at 2^20 clip units per unit, for a mesh within ±1.
+    /// let t = VertexTransform::new(&Mat4::IDENTITY, 20, 1 << 16, 30, None).unwrap();
+    /// let p = [Q16_16::from_int(1), Q16_16::ZERO, Q16_16::from_ratio(-1, 2)];
+    /// assert_eq!(t.transform(&p), [1 << 20, 0, -(1 << 19), 1 << 20]);
+    /// ```
+    pub fn transform(&self, q: &Vec3) -> [i64; 4] {
+        // A perspective projection's third row may not fit: z comes from w.
+        let [x, y, z, w] = match self.persp {
+            Some(_) => {
+                let mut t = *self;
+                t.m[2] = [0; 3];
+                t.hi[2] = [0; 3];
+                t.lo[2] = [0; 3];
+                t.rows(q)
+            }
+            None => self.rows(q),
+        };
+        let z = match &self.persp {
+            Some(f) => f.z(w),
+            None => z as i64,
+        };
+        [x as i64, y as i64, z, w as i64]
+    }
+}
+
 /// An affine 3-D transform for the lighting stage: a Q16.16 linear part and
 /// translation (eye-space positions), plus a normal matrix (the cofactor matrix of the
 /// linear part, sign-corrected, normalised like [`ClipMatrix`]) for normals.
@@ -926,6 +1372,72 @@ pub fn rsqrt_q61(s: u64) -> u64 {
         k += 1;
     }
     r as u64
+}
+
+/// The Euclidean length of an `i64` vector, within 2⁻²⁷ of the exact value
+/// (relatively; tested), without `i128`, a square root or a division: the
+/// components are shifted so the largest lies in [2²⁹, 2³⁰) (as [`normalize_to_q30`]
+/// does), `√sq = sq·rsqrt(sq)` from [`rsqrt_q61`] (the product of `sq >> 30` <
+/// 3·2³⁰ and `r` < 2³¹ below 2⁶³), and shifted back.
+///
+/// ```
+/// use fixshade::math::length;
+/// assert_eq!(length([0, 0, 0]), 0);
+/// assert!(length([3 << 20, 4 << 20, 0]).abs_diff(5 << 20) <= 1);
+/// ```
+pub fn length(v: [i64; 3]) -> u64 {
+    let max = v[0].unsigned_abs() | v[1].unsigned_abs() | v[2].unsigned_abs();
+    if max == 0 {
+        return 0;
+    }
+    let hi = (max >> 32) as u32;
+    let bits = if hi != 0 {
+        64 - leading_zeros(hi)
+    } else {
+        32 - leading_zeros(max as u32)
+    } as i32;
+    let shift = bits - 30;
+    let Some((_, _, _, sq)) = scale_for_length(v) else {
+        return 0;
+    };
+    let j = if sq < 1 << 60 { 1 } else { 0 };
+    let r = rsqrt_q61(sq << (2 * j)) as u32; // 2^61/(√sq·2^j)
+    let root = (mul_wide_u((sq >> 30) as u32, r) >> (31 - j)) as u32; // √sq < 2^31
+    if shift >= 0 {
+        shl_u32(root, shift as u32)
+    } else {
+        (root >> (-shift).min(31)) as u64
+    }
+}
+
+/// `v·2ˢ` as `u64` from 32-bit shifts (a variable 64-bit shift is a library call on
+/// ARMv6-M); saturating.
+#[inline]
+fn shl_u32(v: u32, s: u32) -> u64 {
+    match s {
+        0 => v as u64,
+        1..=31 => (((v >> (32 - s)) as u64) << 32) | (v << s) as u64,
+        32 => (v as u64) << 32,
+        _ if (v >> (64 - s.min(63))) != 0 => u64::MAX,
+        _ => ((v << (s - 32)) as u64) << 32,
+    }
+}
+
+/// `⌊v·s/2¹⁶⌋` for a `u64` and a Q16.16 factor `0 ≤ s < 2³¹` (saturating), from
+/// two [`mul_wide_u`].
+///
+/// ```
+/// use fixshade::math::mul_q16_u64;
+/// assert_eq!(mul_q16_u64(3 << 40, 1 << 15), 3 << 39);
+/// ```
+pub fn mul_q16_u64(v: u64, s: i64) -> u64 {
+    let s = s.clamp(0, i32::MAX as i64) as u32;
+    let low = mul_wide_u(v as u32, s) >> 16;
+    let high = mul_wide_u((v >> 32) as u32, s);
+    if high >= 1 << 48 {
+        return u64::MAX;
+    }
+    low + (high << 16)
 }
 
 /// Normalises an `i64` vector to Q2.30 unit length without a square root or a
@@ -1166,6 +1678,143 @@ mod tests {
         ] {
             assert_eq!(div_rem_u32_shift(n, d), (n / d, n % d));
         }
+    }
+
+    #[test]
+    fn mul_hi_split_equals_native() {
+        let mut seed = 0x7f4a_7c15_9e37_79b9u64;
+        let edges = [
+            0,
+            1,
+            -1,
+            0xFFFF,
+            0x10000,
+            -0x10000,
+            i32::MAX,
+            i32::MIN,
+            0x7FFF,
+            -0x8000,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                assert_eq!(
+                    mul_hi_split(a, b),
+                    ((a as i64 * b as i64) >> 32) as i32,
+                    "{a} {b}"
+                );
+            }
+        }
+        for _ in 0..1_000_000 {
+            let r = xorshift(&mut seed);
+            let (a, b) = (r as i32 >> (r >> 59), (r >> 32) as i32 >> ((r >> 54) & 31));
+            assert_eq!(
+                mul_hi_split(a, b),
+                ((a as i64 * b as i64) >> 32) as i32,
+                "{a} {b}"
+            );
+        }
+    }
+
+    /// The seed's residual stays below 2^17 in magnitude over every bucket, and the
+    /// refined reciprocal is within 2^-27 of `2^61/m`; the constant-times-reciprocal
+    /// product's split form equals the native one.
+    #[test]
+    fn refined_reciprocal_is_within_bound() {
+        let mut worst_e = 0;
+        let mut worst = 0f64;
+        let mut check = |m: u32| {
+            let (r0, e) = recip_seed(m);
+            assert!((1 << 15..=1 << 16).contains(&r0), "m {m}: r0 {r0}");
+            worst_e = worst_e.max(e.unsigned_abs());
+            let want = (1u64 << 61) as f64 / m as f64;
+            let got = recip_refined(m) as f64;
+            assert!(got > 0.0 && got < want, "m {m}: {got} vs {want}");
+            worst = worst.max((got - want).abs() / want);
+        };
+        for i in 0..256u32 {
+            let lo = (256 + i) << 22;
+            for m in [lo, lo + 1, lo + (1 << 21), lo + (1 << 22) - 1] {
+                check(m);
+            }
+        }
+        let mut seed = 0x0123_4567_89ab_cdefu64;
+        for _ in 0..2_000_000 {
+            let r = xorshift(&mut seed);
+            check((r as u32 >> 1) | (1 << 30));
+            let (k, r2) = (((r >> 32) as i32 & 0x7FFF) << 16, (r as i32) & i32::MAX);
+            assert_eq!(mul_hi_k_split(k, r2), mul_hi(k, r2), "{k} {r2}");
+        }
+        assert!(worst_e < 1 << 17, "residual {worst_e}");
+        assert!(worst < 2f64.powi(-27), "relative error {worst:e}");
+    }
+
+    /// Both forms of the vertex transform's rows give the same bits, for random
+    /// matrices at the largest scale the row bounds allow and positions over the
+    /// whole range of each mesh bound.
+    #[test]
+    fn vertex_transform_rows_split_equal_wide() {
+        let mut seed = 0x1357_9bdf_2468_ace0u64;
+        let mut tested = 0;
+        for k in 0..4000 {
+            let bound = (xorshift(&mut seed) >> (34 + k % 30)) as i32 + 1; // up to 2^30
+            let bound = bound.min((1 << 30) - 1);
+            let mut m = Mat4 { m: [[0; 4]; 4] };
+            for row in m.m.iter_mut() {
+                for e in row.iter_mut() {
+                    *e = (xorshift(&mut seed) as i64) >> (20 + xorshift(&mut seed) % 20);
+                }
+            }
+            // The largest scale that fits every row.
+            let t = (-40..60)
+                .rev()
+                .find_map(|sc| VertexTransform::new(&m, sc, bound, 30, None));
+            let Some(t) = t else { continue };
+            tested += 1;
+            for _ in 0..200 {
+                let q: Vec3 = core::array::from_fn(|_| {
+                    let r = xorshift(&mut seed);
+                    Q16_16::from_bits(((r % (2 * bound as u64 + 1)) as i64 - bound as i64) as i32)
+                });
+                let p = match t.shift {
+                    PositionShift::None => t.input::<0>(&q),
+                    PositionShift::Left => t.input::<1>(&q),
+                    PositionShift::Right => t.input::<2>(&q),
+                };
+                for r in 0..4 {
+                    let (split, wide) = if t.s == 13 {
+                        (t.row_split::<13>(r, &p), t.row_wide::<13>(r, &p))
+                    } else {
+                        (t.row_split::<11>(r, &p), t.row_wide::<11>(r, &p))
+                    };
+                    assert_eq!(split, wide, "bound {bound} row {r}");
+                    // And both are the exact floor.
+                    let exact: i128 = (0..3).map(|i| t.m[r][i] as i128 * p[i] as i128).sum();
+                    assert_eq!(wide as i128, (exact >> t.s) + t.t[r] as i128);
+                    assert_eq!(t.rows(&q)[r], wide);
+                }
+            }
+        }
+        assert!(tested > 3000, "{tested}");
+    }
+
+    /// The length within 2^-27 of the exact one; zero for the zero vector.
+    #[test]
+    fn length_is_within_bound() {
+        let mut seed = 0x2222_3333_4444_5555u64;
+        let mut worst = 0f64;
+        for k in 0..300_000 {
+            let mag = (k % 60) as u32 + 1;
+            let v: [i64; 3] = core::array::from_fn(|_| (xorshift(&mut seed) as i64) >> (64 - mag));
+            let want = v.iter().map(|c| (*c as f64).powi(2)).sum::<f64>().sqrt();
+            let got = length(v) as f64;
+            if want == 0.0 {
+                assert_eq!(got, 0.0);
+                continue;
+            }
+            // Relative error beyond the last unit.
+            worst = worst.max(((got - want).abs() - 1.0).max(0.0) / want);
+        }
+        assert!(worst < 2f64.powi(-27), "{worst:e}");
     }
 
     #[test]

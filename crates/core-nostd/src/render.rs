@@ -57,9 +57,9 @@ use core::marker::PhantomData;
 use crate::clip::{clip_triangle, is_front, ClipVertex};
 use crate::divide::{Divide, Exact};
 use crate::fixed::Q16_16;
-use crate::geometry::{normalize_clip, Viewport};
+use crate::geometry::{Projector, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
-use crate::math::{mul_wide_16, normalize_to_q30, Affine3, ClipMatrix, Mat4, Vec3, ONE_Q30};
+use crate::math::{mul_wide_16, normalize_to_q30, Affine3, Mat4, Vec3, VertexTransform, ONE_Q30};
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{
     self, draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
@@ -67,8 +67,8 @@ use crate::raster::phong::{
 use crate::raster::quadratic::draw_quadratic_div;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use crate::raster::span::{Gradient, WithDivide};
-use crate::raster::{draw_in_guard, draw_triangle, ScreenVertex, GUARD};
-use crate::scene::{Object, Scene, ShadingMode, MAX_OBJECTS};
+use crate::raster::{draw_in_guard, draw_triangle, ScreenVertex};
+use crate::scene::{Object, Projection, Scene, ShadingMode, MAX_OBJECTS};
 use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
 use crate::target::{to_channels, PixelFormat, Target};
 
@@ -151,6 +151,157 @@ fn classify_refs(
         return Class::Skip;
     }
     Class::Draw
+}
+
+/// Whether the cull pass takes the area with 32-bit products first
+/// ([`crate::clip::signed_area_i32`]): on ARMv6-M, where a 64-bit product is a
+/// library call. Both forms give the same sign (tested).
+const SMALL_AREA: bool = cfg!(fixshade_v6m);
+
+/// The vertex stage's step 1 under a perspective projection: x, y and w of every
+/// position ([`VertexTransform::xyw`]), the depth range tested on w, the screen
+/// position and depth from [`Projector::project`]; [`OUTSIDE`] for a vertex
+/// outside the depth range or the guard band. Returns whether some vertex is.
+/// (Out of line, as the other passes: each loop gets the registers to itself.)
+#[inline(never)]
+fn project_perspective<const S: u32, const SH: u8>(
+    out: &mut [XfVertex],
+    pos: &[Vec3],
+    clip: &VertexTransform,
+    proj: &Projector,
+    depth: &crate::geometry::PerspectiveDepth,
+) -> bool {
+    let (w_lo, w_hi) = depth.w_range();
+    let mut flags = 0;
+    for (o, p) in out.iter_mut().zip(pos) {
+        let [x, y, w] = clip.xyw::<S, SH>(p);
+        let s = if w < w_lo || w > w_hi {
+            None
+        } else {
+            proj.project_perspective(depth, x, y, w)
+        };
+        *o = vertex(s);
+        flags |= o.flags;
+    }
+    flags & OUTSIDE != 0
+}
+
+/// [`project_perspective`] for any other projection (orthographic): z from the
+/// matrix, the depth range `−w ≤ z ≤ w`.
+#[inline(never)]
+fn project_general<const S: u32, const SH: u8>(
+    out: &mut [XfVertex],
+    pos: &[Vec3],
+    clip: &VertexTransform,
+    proj: &Projector,
+) -> bool {
+    let mut flags = 0;
+    for (o, p) in out.iter_mut().zip(pos) {
+        let [x, y, z, w] = clip.xyzw::<S, SH>(p);
+        let s = if w <= 0 || z < -w || z > w {
+            None
+        } else {
+            proj.project_orthographic(x, y, z, w)
+        };
+        *o = vertex(s);
+        flags |= o.flags;
+    }
+    flags & OUTSIDE != 0
+}
+
+/// The vertex stage's step 3: the colour of every [`NEEDED`] vertex, lit in eye
+/// space (the normal through the normal matrix and renormalised, the position
+/// only where a point light or a local viewer reads it).
+///
+/// [`crate::light::ObjectLighting`] lights in the object's space instead, with no
+/// normal matrix (about 150 fewer instructions a vertex on the Cortex-M4, 700 on
+/// ARMv6-M), but its figures drift from the f64 reference (teapot NMSE 1.6e-6
+/// against 1.1e-6 here), so the vertex stage keeps the eye-space sums.
+#[inline(never)]
+fn light_needed<P: PixelFormat, Sp: Specular>(
+    out: &mut [XfVertex],
+    pos: &[Vec3],
+    nrm: &[[crate::fixed::Q2_14; 3]],
+    aff: &Affine3,
+    light: &LightingSetup<Sp>,
+) {
+    let position = light.needs_position();
+    for ((o, p), n) in out.iter_mut().zip(pos).zip(nrm) {
+        if o.flags & NEEDED == 0 {
+            continue;
+        }
+        let unit = eye_normal(aff, n);
+        let at = if position { aff.point(p) } else { [0; 3] };
+        o.s.c = to_channels::<P>(light.shade(at, unit));
+    }
+}
+
+/// A cache entry for a projected vertex, or an [`OUTSIDE`] one.
+#[inline(always)]
+fn vertex(s: Option<(i32, i32, u32)>) -> XfVertex {
+    match s {
+        Some((x, y, z)) => XfVertex {
+            s: ScreenVertex { x, y, z, c: [0; 3] },
+            flags: 0,
+        },
+        None => XfVertex {
+            s: ScreenVertex::default(),
+            flags: OUTSIDE,
+        },
+    }
+}
+
+/// The vertex stage's cull pass: marks [`NEEDED`] the vertices of every triangle
+/// that [`classify_refs`] over the whole frame does not skip (`CULL`: the scene
+/// culls back faces), with the same tests in a cheaper form: the flags first (only
+/// with `OUTSIDE`: some vertex of the mesh is), then the sign of the area (`SMALL`:
+/// with 32-bit products when the edges are under 2048 pixels), then the frame's
+/// edges, each a comparison of the three vertices that stops at the first one
+/// inside (the bounding-box test without the minima and maxima).
+#[inline(never)]
+fn mark_needed<const CULL: bool, const OUTSIDE_ANY: bool, const SMALL: bool>(
+    out: &mut [XfVertex],
+    tris: &[[u16; 3]],
+    vp: &Viewport,
+) {
+    // Pixel centres at 16k + 8 (see `classify_refs`).
+    let (right, bottom) = (16 * vp.width as i32 - 8, 16 * vp.height as i32 - 8);
+    for tri in tris {
+        let [a, b, c] = tri.map(|i| &out[i as usize]);
+        let draw = if OUTSIDE_ANY && (a.flags | b.flags | c.flags) & OUTSIDE != 0 {
+            true
+        } else {
+            let (a, b, c) = (a.s, b.s, c.s);
+            let front = |area_lt_0: bool, area_eq_0: bool| {
+                if CULL {
+                    area_lt_0
+                } else {
+                    !area_eq_0
+                }
+            };
+            let small = if SMALL {
+                crate::clip::signed_area_i32((a.x, a.y), (b.x, b.y), (c.x, c.y))
+            } else {
+                None
+            };
+            let kept = match small {
+                Some(area) => front(area < 0, area == 0),
+                None => {
+                    let area = crate::clip::signed_area((a.x, a.y), (b.x, b.y), (c.x, c.y));
+                    front(area < 0, area == 0)
+                }
+            };
+            kept && !((a.x < 8 && b.x < 8 && c.x < 8)
+                || (a.x > right && b.x > right && c.x > right)
+                || (a.y < 8 && b.y < 8 && c.y < 8)
+                || (a.y > bottom && b.y > bottom && c.y > bottom))
+        };
+        if draw {
+            for i in tri {
+                out[*i as usize].flags |= NEEDED;
+            }
+        }
+    }
 }
 
 /// Why a frame could not be prepared or drawn.
@@ -271,10 +422,46 @@ impl core::ops::AddAssign for Stats {
     }
 }
 
-#[derive(Copy, Clone, Debug)]
-struct Prepared {
-    clip: ClipMatrix,
+/// What a draw keeps of an object's vertex stage: where its vertices are in the
+/// cache, and its clip transform, rebuilt on first use by the same arithmetic as in
+/// [`Frame::prepare`] (so the same bits): only the clipper and the perspective fills
+/// need it, and a frame holding a 200-byte transform per object (3.6 KiB for 16
+/// objects) would not fit the few KiB of stack of a Cortex-M0 board.
+struct Prepared<'f> {
     offset: usize,
+    obj: &'f Object<'f>,
+    view: &'f Mat4,
+    proj: &'f Mat4,
+    map: &'f Projector,
+    clip: core::cell::OnceCell<VertexTransform>,
+}
+
+impl Prepared<'_> {
+    /// The object's clip transform.
+    fn clip(&self) -> &VertexTransform {
+        self.clip.get_or_init(|| {
+            // `prepare` built this transform from the same values: it exists.
+            let mv = self.view.mul(&self.obj.placement.matrix());
+            object_transform(&mv, self.proj, self.map, self.obj).unwrap_or_default()
+        })
+    }
+}
+
+/// The clip transform of `obj` with the model-view matrix `mv` in the frame of
+/// `proj` and `map`: `None` if it does not fit (see [`VertexTransform::new`]).
+fn object_transform(
+    mv: &Mat4,
+    proj: &Mat4,
+    map: &Projector,
+    obj: &Object<'_>,
+) -> Option<VertexTransform> {
+    VertexTransform::new(
+        &proj.mul(mv),
+        map.scale(),
+        obj.mesh.bound(),
+        map.w_bits(),
+        map.z_from_w(),
+    )
 }
 
 /// A frame whose vertex stage has run; draw it into one or more targets.
@@ -313,8 +500,13 @@ struct Prepared {
 pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
     scene: &'s Scene<'a>,
     cache: &'c [XfVertex],
-    objects: heapless::Vec<Prepared, MAX_OBJECTS>,
-    vp: Viewport,
+    /// Each object's first vertex in the cache.
+    offsets: heapless::Vec<usize, MAX_OBJECTS>,
+    /// The frame's view and projection matrices (for [`Prepared::clip`]).
+    view: Mat4,
+    proj: Mat4,
+    /// The frame's projection (dereferences to its [`Viewport`]).
+    vp: Projector,
     _format: PhantomData<(P, Sp)>,
 }
 
@@ -349,12 +541,29 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             .projection_matrix(width, height)
             .ok_or(RenderError::BadProjection)?;
         let vp = Viewport { width, height };
-        let mut objects = heapless::Vec::new();
+        // One clip scale for the frame: from how far any vertex lies from the eye,
+        // per eye-space coordinate (the view is rigid, the model a rotation and a
+        // uniform scale: |offset from the object's origin| ≤ scale·√3·bound).
+        let reach = scene.objects.iter().fold(0i64, |r, obj| {
+            let pl = &obj.placement;
+            let origin = view.transform_point(pl.translate);
+            let far = origin.iter().map(|c| c.saturating_abs()).max().unwrap_or(0);
+            let extent = 2 * (pl.scale.to_bits().unsigned_abs() as i64) * obj.mesh.bound() as i64;
+            r.max(far.saturating_add(extent))
+        });
+        let depth_range = match scene.camera.projection {
+            Projection::Perspective { near, far, .. } => Some((near, far)),
+            Projection::Orthographic { .. } => None,
+        };
+        let proj_map =
+            Projector::new(vp, &proj, depth_range, reach).ok_or(RenderError::BadProjection)?;
+        let mut offsets = heapless::Vec::new();
         let mut offset = 0;
         for (i, obj) in scene.objects.iter().enumerate() {
             let mv = view.mul(&obj.placement.matrix());
-            let clip =
-                ClipMatrix::new(&proj.mul(&mv)).ok_or(RenderError::SingularModel { object: i })?;
+            let clip = object_transform(&mv, &proj, &proj_map, obj)
+                .ok_or(RenderError::SingularModel { object: i })?;
+            // A singular model (scale 0) has no normals.
             let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
             let light = LightingSetup::<Sp>::new(
                 &scene.lights,
@@ -366,54 +575,71 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             let mesh = &obj.mesh;
             let out = &mut cache[offset..offset + mesh.positions().len()];
             // 1. Transform and project every vertex once.
-            for (o, p) in out.iter_mut().zip(mesh.positions()) {
-                *o = match vp.project(clip.transform(p)) {
-                    Some((x, y, z)) => XfVertex {
-                        s: ScreenVertex { x, y, z, c: [0; 3] },
-                        flags: 0,
-                    },
-                    None => XfVertex {
-                        s: ScreenVertex::default(),
-                        flags: OUTSIDE,
-                    },
-                };
-            }
+            let pos = mesh.positions();
+            use crate::math::PositionShift as Sh;
+            let outside = match (proj_map.perspective_depth(), clip.form()) {
+                (Some(d), (13, Sh::None)) => {
+                    project_perspective::<13, 0>(out, pos, &clip, &proj_map, d)
+                }
+                (Some(d), (13, _)) => project_perspective::<13, 1>(out, pos, &clip, &proj_map, d),
+                (Some(d), (_, Sh::Right)) => {
+                    project_perspective::<11, 2>(out, pos, &clip, &proj_map, d)
+                }
+                (Some(d), _) => project_perspective::<11, 1>(out, pos, &clip, &proj_map, d),
+                (None, (13, _)) => project_general::<13, 1>(out, pos, &clip, &proj_map),
+                (None, (_, Sh::Right)) => project_general::<11, 2>(out, pos, &clip, &proj_map),
+                (None, _) => project_general::<11, 1>(out, pos, &clip, &proj_map),
+            };
             // 2. Cull before lighting: only vertices of triangles that may be drawn
-            //    are lit.
-            for tri in mesh.triangles() {
-                let t = tri.map(|i| &out[i as usize]);
-                if classify_refs(t, scene.cull_back, &vp, 0..height as i32) != Class::Skip {
-                    for i in tri {
-                        out[*i as usize].flags |= NEEDED;
-                    }
-                }
+            //    are lit (the flags are read only if some vertex is outside).
+            let tris = mesh.triangles();
+            match (scene.cull_back, outside) {
+                (true, true) => mark_needed::<true, true, SMALL_AREA>(out, tris, &vp),
+                (true, false) => mark_needed::<true, false, SMALL_AREA>(out, tris, &vp),
+                (false, true) => mark_needed::<false, true, SMALL_AREA>(out, tris, &vp),
+                (false, false) => mark_needed::<false, false, SMALL_AREA>(out, tris, &vp),
             }
-            // 3. Light the vertices that are needed (the eye-space position only
-            //    where a point light or a local viewer reads it).
-            let at = light.needs_position();
-            for ((o, p), n) in out.iter_mut().zip(mesh.positions()).zip(mesh.normals()) {
-                if o.flags & NEEDED == 0 {
-                    continue;
-                }
-                let unit = eye_normal(&aff, n);
-                let p = if at { aff.point(p) } else { [0; 3] };
-                o.s.c = to_channels::<P>(light.shade(p, unit));
-            }
+            // 3. Light the vertices that are needed, in eye space.
+            light_needed::<P, Sp>(out, pos, mesh.normals(), &aff, &light);
             // Capacity equals the scene's object capacity.
-            let _ = objects.push(Prepared { clip, offset });
+            let _ = offsets.push(offset);
             offset += mesh.positions().len();
         }
         Ok(Frame {
             scene,
             cache,
-            objects,
-            vp,
+            offsets,
+            view,
+            proj,
+            vp: proj_map,
             _format: PhantomData,
         })
     }
 }
 
 impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
+    /// Every object with what its draw needs of the vertex stage.
+    fn prepared(&self) -> impl Iterator<Item = (&'s Object<'a>, Prepared<'_>)> + '_ {
+        let scene: &'s Scene<'a> = self.scene;
+        scene
+            .objects
+            .iter()
+            .zip(self.offsets.iter())
+            .map(move |(obj, &offset)| {
+                (
+                    obj,
+                    Prepared {
+                        offset,
+                        obj,
+                        view: &self.view,
+                        proj: &self.proj,
+                        map: &self.vp,
+                        clip: core::cell::OnceCell::new(),
+                    },
+                )
+            })
+    }
+
     /// Builds an object's lighting setup for this frame's specular model.
     fn lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
         LightingSetup::<Sp>::new(
@@ -483,7 +709,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
+        for (obj, prep) in self.prepared() {
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             let pos = obj.mesh.positions();
             for tri in obj.mesh.triangles() {
@@ -496,7 +722,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                         target,
                         t,
                         class,
-                        (pos, tri, prep),
+                        (pos, tri, &prep),
                         &mut st,
                     );
                     continue;
@@ -518,7 +744,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 }
                 let class = classify(&t, cull, &self.vp, rows.clone());
                 let t = [&t[0], &t[1], &t[2]];
-                self.draw_classified::<S, Z, Sh, T>(target, t, class, (pos, tri, prep), &mut st);
+                self.draw_classified::<S, Z, Sh, T>(target, t, class, (pos, tri, &prep), &mut st);
             }
         }
         Ok(st)
@@ -535,7 +761,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         target: &mut T,
         t: [&XfVertex; 3],
         class: Class,
-        (pos, tri, prep): (&[Vec3], &[u16; 3], &Prepared),
+        (pos, tri, prep): (&[Vec3], &[u16; 3], &Prepared<'_>),
         st: &mut Stats,
     ) {
         let colour = |k: usize| if Sh::INTERPOLATE { t[k].s.c } else { t[2].s.c };
@@ -563,7 +789,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             Class::Clip => {
                 st.clipped += 1;
                 let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                    pos: prep.clip.transform(&pos[tri[k] as usize]),
+                    pos: prep.clip().transform(&pos[tri[k] as usize]),
                     c: colour(k),
                 });
                 self.draw_clipped::<S, Z, Sh, T>(target, cv, self.scene.cull_back, st);
@@ -618,13 +844,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (i, (obj, prep)) in self
-            .scene
-            .objects
-            .iter()
-            .zip(self.objects.iter())
-            .enumerate()
-        {
+        for (i, (obj, prep)) in self.prepared().enumerate() {
             let mv = view.mul(&obj.placement.matrix());
             let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
@@ -673,7 +893,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                             st.clipped += 1;
                             st.fallback += 1;
                             let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                                pos: prep.clip.transform(&pos[tri[k] as usize]),
+                                pos: prep.clip().transform(&pos[tri[k] as usize]),
                                 c: s[k].c,
                             });
                             self.draw_clipped::<WithDivide<Gradient, D>, Z, Gouraud, T>(
@@ -727,13 +947,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (i, (obj, prep)) in self
-            .scene
-            .objects
-            .iter()
-            .zip(self.objects.iter())
-            .enumerate()
-        {
+        for (i, (obj, prep)) in self.prepared().enumerate() {
             let mv = view.mul(&obj.placement.matrix());
             let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
             let light = self.lighting(obj, &view);
@@ -761,7 +975,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                             }
                         });
                         st.drawn += 1;
-                        let w = clip_w(persp, &prep.clip, pos, *tri);
+                        let w = clip_w(persp, prep.clip(), pos, *tri);
                         let (px, ev) = draw(target, pv, w, &light);
                         st.pixels += px;
                         st.evaluations += ev;
@@ -771,7 +985,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                         let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
                             let (n, p) = eye(tri[k] as usize);
                             ClipVertex {
-                                pos: prep.clip.transform(&pos[tri[k] as usize]),
+                                pos: prep.clip().transform(&pos[tri[k] as usize]),
                                 c: [n[0], n[1], n[2], p[0], p[1], p[2]],
                             }
                         });
@@ -981,7 +1195,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let mut st = Stats::default();
         let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
+        for (obj, prep) in self.prepared() {
             let pos = obj.mesh.positions();
             let verts = &self.cache[prep.offset..prep.offset + pos.len()];
             for tri in obj.mesh.triangles() {
@@ -993,14 +1207,14 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     Class::Draw => {
                         st.drawn += 1;
                         // Clip-space w, recomputed: the vertex cache keeps none.
-                        let w = tri.map(|i| prep.clip.transform(&pos[i as usize])[3]);
+                        let w = tri.map(|i| prep.clip().transform(&pos[i as usize])[3]);
                         st.pixels +=
                             draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, mode);
                     }
                     Class::Clip => {
                         st.clipped += 1;
                         let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                            pos: prep.clip.transform(&pos[tri[k] as usize]),
+                            pos: prep.clip().transform(&pos[tri[k] as usize]),
                             c: s[k].c,
                         });
                         self.clip_fan(cv, cull, &mut st, |tri, w| {
@@ -1016,7 +1230,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
 
 /// The clip-space w of the mesh triangle `tri` under `clip` when `persp` asks for
 /// perspective correction (the vertex cache keeps none); else unused, `[1; 3]`.
-fn clip_w(persp: Option<Perspective>, clip: &ClipMatrix, pos: &[Vec3], tri: [u16; 3]) -> [i64; 3] {
+fn clip_w(
+    persp: Option<Perspective>,
+    clip: &VertexTransform,
+    pos: &[Vec3],
+    tri: [u16; 3],
+) -> [i64; 3] {
     match persp {
         Some(_) => tri.map(|i| clip.transform(&pos[i as usize])[3]),
         None => [1; 3],
@@ -1035,19 +1254,278 @@ fn eye_normal(aff: &Affine3, n: &[crate::fixed::Q2_14; 3]) -> [i32; 3] {
     normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30])
 }
 
-/// Projects a clipped vertex: like [`Viewport::project`] but clamps what rounding in
-/// the clipper may have pushed a hair outside (depth to [0, 1], x and y into the guard
-/// band). `None` only if `w ≤ 0`.
-fn project_clamped(vp: &Viewport, c: [i64; 4]) -> Option<(i32, i32, u32)> {
-    let [x, y, z, w] = normalize_clip(c);
-    if w <= 0 {
-        return None;
+/// Projects a clipped vertex ([`Projector::project_clip`]): clamps what rounding in
+/// the clipper may have pushed a hair outside (depth to [0, 1], x and y into the
+/// guard band); a vertex the vertex stage projected gets its cached position.
+/// `None` only if `w ≤ 0`.
+fn project_clamped(vp: &Projector, c: [i64; 4]) -> Option<(i32, i32, u32)> {
+    vp.project_clip(c)
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::geometry::Mesh;
+    use crate::raster::GUARD;
+    use std::vec::Vec;
+
+    fn xorshift(seed: &mut u64) -> u64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        *seed
     }
-    let lim = (GUARD - 1) as i64;
-    let (sx, sy, sz) = vp.divide(x, y, z.clamp(-w, w), w);
-    Some((
-        sx.clamp(-lim, lim) as i32,
-        sy.clamp(-lim, lim) as i32,
-        sz as u32,
-    ))
+
+    /// The cull pass marks exactly what `classify_refs` over the whole frame keeps,
+    /// with and without back-face culling and with either form of the area: small
+    /// and huge triangles, zero areas, vertices outside the guard band, triangles
+    /// beside every edge of the frame.
+    #[test]
+    fn cull_pass_marks_what_classify_keeps() {
+        let mut seed = 0x0bad_cafe_1234_5678u64;
+        let vp = Viewport {
+            width: 320,
+            height: 240,
+        };
+        for round in 0..400 {
+            // Spreads from a few subpixels to the whole guard band.
+            let spread = 1i64 << (2 + round % 15);
+            let centre = |r: u64, size: u32| (r % (16 * size as u64 + 64)) as i64 - 32;
+            let mut verts = [XfVertex::default(); 64];
+            let (cx, cy) = (
+                centre(xorshift(&mut seed), vp.width) * 16,
+                centre(xorshift(&mut seed), vp.height) * 16,
+            );
+            for v in verts.iter_mut() {
+                let mut c = |base: i64| {
+                    let d = (xorshift(&mut seed) % (2 * spread as u64 + 1)) as i64 - spread;
+                    (base + d).clamp(-(GUARD as i64) + 1, GUARD as i64 - 1) as i32
+                };
+                v.s.x = c(cx);
+                v.s.y = c(cy);
+                if round % 2 == 0 && xorshift(&mut seed) % 16 == 0 {
+                    v.flags = OUTSIDE;
+                }
+            }
+            // Some exact zero areas: repeated and collinear vertices.
+            verts[1].s = verts[0].s;
+            verts[3].s.x = 2 * verts[2].s.x - verts[4].s.x;
+            verts[3].s.y = 2 * verts[2].s.y - verts[4].s.y;
+            let tris: [[u16; 3]; 96] = core::array::from_fn(|_| {
+                core::array::from_fn(|_| (xorshift(&mut seed) % 64) as u16)
+            });
+            for cull in [false, true] {
+                let mut want = verts;
+                for tri in &tris {
+                    let t = tri.map(|i| &verts[i as usize]);
+                    if classify_refs(t, cull, &vp, 0..vp.height as i32) != Class::Skip {
+                        for i in tri {
+                            want[*i as usize].flags |= NEEDED;
+                        }
+                    }
+                }
+                for small in [false, true] {
+                    let mut got = verts;
+                    match (cull, small) {
+                        (false, false) => mark_needed::<false, true, false>(&mut got, &tris, &vp),
+                        (false, true) => mark_needed::<false, true, true>(&mut got, &tris, &vp),
+                        (true, false) => mark_needed::<true, true, false>(&mut got, &tris, &vp),
+                        (true, true) => mark_needed::<true, true, true>(&mut got, &tris, &vp),
+                    }
+                    // Without the flags when no vertex is outside.
+                    if verts.iter().all(|v| v.flags & OUTSIDE == 0) {
+                        let mut fast = verts;
+                        match (cull, small) {
+                            (false, false) => {
+                                mark_needed::<false, false, false>(&mut fast, &tris, &vp)
+                            }
+                            (false, true) => {
+                                mark_needed::<false, false, true>(&mut fast, &tris, &vp)
+                            }
+                            (true, false) => {
+                                mark_needed::<true, false, false>(&mut fast, &tris, &vp)
+                            }
+                            (true, true) => mark_needed::<true, false, true>(&mut fast, &tris, &vp),
+                        }
+                        assert_eq!(fast, want, "round {round} cull {cull} small {small}");
+                    }
+                    assert_eq!(got, want, "round {round} cull {cull} small {small}");
+                }
+            }
+        }
+    }
+
+    /// A scene of random meshes under random cameras: some vertices behind the
+    /// near plane, beyond the far plane, outside the guard band.
+    fn random_scene<'a>(
+        seed: &mut u64,
+        pos: &'a [Vec3],
+        nrm: &'a [[crate::fixed::Q2_14; 3]],
+        tris: &'a [[u16; 3]],
+    ) -> Scene<'a> {
+        use crate::fixed::{Angle, Q16_16};
+        use crate::light::{Light, LightKind, Material};
+        use crate::scene::{Camera, Placement};
+        let q = |v: i64| Q16_16::from_bits(v as i32);
+        let mut r = |range: i64| (xorshift(seed) % (2 * range as u64 + 1)) as i64 - range;
+        let eye = [q(r(6 << 16)), q(r(6 << 16)), q(8 << 16)];
+        let mut camera =
+            Camera::perspective(eye, [q(0); 3], Angle::from_degrees(30 + r(25) as i32));
+        if r(3) == 3 {
+            camera.projection = Projection::Orthographic {
+                height: q(4 << 16),
+                near: q(1 << 16),
+                far: q(14 << 16),
+            };
+        } else {
+            camera = camera.with_depth_range(q((1 << 15) + r(1 << 15)), q((12 << 16) + r(4 << 16)));
+        }
+        let mut scene = Scene::new(camera);
+        let white = [Q16_16::ONE; 3];
+        let _ = scene.add_light(Light::directional(
+            [q(r(1 << 16)), q(1 << 16), q(r(1 << 16))],
+            white,
+            white,
+        ));
+        if r(1) == 1 {
+            let mut lamp = Light::directional([q(0); 3], [q(40000); 3], [q(50000); 3]);
+            lamp.kind = LightKind::Point {
+                position: [q(r(3 << 16)), q(2 << 16), q(3 << 16)],
+                attenuation: [Q16_16::ONE, q(3000), q(700)],
+            };
+            lamp.ambient = [q(3000); 3];
+            let _ = scene.add_light(lamp);
+        }
+        scene.local_viewer = r(1) == 1;
+        scene.global_ambient = [q(5000); 3];
+        let mesh = Mesh::new(pos, nrm, tris).unwrap();
+        let mat = Material {
+            specular: [q(40000); 3],
+            shininess: Q16_16::from_int(1 + r(20) as i32 + 20),
+            ..Material::default()
+        };
+        let placement = Placement {
+            translate: [q(r(1 << 16)), q(r(1 << 16)), q(r(1 << 16))],
+            rotate: [
+                Angle::from_degrees(r(180) as i32),
+                Angle::from_degrees(r(180) as i32),
+                Angle::default(),
+            ],
+            scale: q((1 << 16) + r(1 << 15)),
+        };
+        let _ = scene.add_object(crate::scene::Object {
+            mesh,
+            placement,
+            material: mat,
+        });
+        scene
+    }
+
+    /// Random mesh data: positions within ±3 units, unit normals (Q2.14),
+    /// triangles over them.
+    fn random_mesh(seed: &mut u64) -> (Vec<Vec3>, Vec<[crate::fixed::Q2_14; 3]>, Vec<[u16; 3]>) {
+        use crate::fixed::{Q16_16, Q2_14};
+        let n = 300;
+        let mut pos = Vec::new();
+        let mut nrm = Vec::new();
+        for _ in 0..n {
+            let p: [i64; 3] =
+                core::array::from_fn(|_| (xorshift(seed) % (6 << 16)) as i64 - (3 << 16));
+            pos.push(p.map(|c| Q16_16::from_bits(c as i32)));
+            let d: [i64; 3] = core::array::from_fn(|_| (xorshift(seed) % 2001) as i64 - 1000);
+            let u = normalize_to_q30(d).unwrap_or([0, 0, ONE_Q30]);
+            nrm.push(u.map(|c| Q2_14::from_bits(((c + (1 << 15)) >> 16) as i16)));
+        }
+        let tris = (0..2 * n)
+            .map(|_| core::array::from_fn(|_| (xorshift(seed) % n as u64) as u16))
+            .collect();
+        (pos, nrm, tris)
+    }
+
+    /// Every vertex the vertex stage projected gets the same position and depth
+    /// from the clipper's path (`project_clamped` of `VertexTransform::transform`):
+    /// a triangle that goes through the clipper meets its unclipped neighbours
+    /// exactly.
+    #[test]
+    fn clip_path_reproduces_the_vertex_stage() {
+        let mut seed = 0x5eed_0001_dead_beefu64;
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..200 {
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            let mut cache = Vec::new();
+            cache.resize(scene.vertex_count(), XfVertex::default());
+            let frame = Frame::<crate::target::Rgb888>::prepare(
+                &scene,
+                160 + (xorshift(&mut seed) % 200) as u32,
+                120,
+                &mut cache,
+            )
+            .unwrap();
+            let (_, prep) = frame.prepared().next().unwrap();
+            for (v, p) in frame.cache.iter().zip(pos.iter()) {
+                if v.flags & OUTSIDE != 0 {
+                    outside += 1;
+                    continue;
+                }
+                inside += 1;
+                let c = prep.clip().transform(p);
+                assert_eq!(
+                    project_clamped(&frame.vp, c),
+                    Some((v.s.x, v.s.y, v.s.z)),
+                    "{c:?}"
+                );
+            }
+        }
+        assert!(inside > 10_000 && outside > 1_000, "{inside} {outside}");
+    }
+
+    /// The vertex stage's colours are the eye-space setup's (`LightingSetup::shade`
+    /// of the eye-space normal and position); the object-space lighting
+    /// (`ObjectLighting`, which the vertex stage does not use) against them: within
+    /// 2⁻¹⁰ of the full scale per channel, and on average within 2⁻¹⁵ — both work
+    /// from the mesh's Q2.14 normals; the object-space directions are Q1.15 and
+    /// `cⁿ` amplifies N·H's rounding n-fold.
+    #[test]
+    fn object_lighting_matches_eye_space() {
+        let mut seed = 0x0b1e_c7ed_1234_4321u64;
+        let (mut worst, mut sum, mut count) = (0i64, 0i64, 0i64);
+        for _ in 0..150 {
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            let mut cache = Vec::new();
+            cache.resize(scene.vertex_count(), XfVertex::default());
+            let frame =
+                Frame::<crate::target::Rgb888>::prepare(&scene, 320, 240, &mut cache).unwrap();
+            let view = scene.camera.view().unwrap();
+            let obj = &scene.objects[0];
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).unwrap();
+            let light = frame.lighting(obj, &view);
+            let object = light.for_object(&mv);
+            for ((v, p), n) in frame.cache.iter().zip(pos.iter()).zip(nrm.iter()) {
+                if v.flags & NEEDED == 0 {
+                    continue;
+                }
+                let want = to_channels::<crate::target::Rgb888>(
+                    light.shade(aff.point(p), eye_normal(&aff, n)),
+                );
+                // The vertex stage lights in eye space: the same colour.
+                assert_eq!(v.s.c, want);
+                let got = to_channels::<crate::target::Rgb888>(object.shade(p, n));
+                for (g, w) in got.iter().zip(want) {
+                    let d = (*g as i64 - w as i64).abs();
+                    worst = worst.max(d);
+                    sum += d;
+                    count += 1;
+                }
+            }
+        }
+        let full = 255i64 << 16;
+        std::eprintln!("worst {worst} mean {} of {full}", sum / count.max(1));
+        assert!(count > 10_000, "{count}");
+        assert!(worst * 1024 <= full, "worst {worst}");
+        assert!(sum * (1 << 15) <= full * count, "mean {}", sum / count);
+    }
 }

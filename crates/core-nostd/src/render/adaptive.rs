@@ -75,13 +75,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
         let cull = self.scene.cull_back;
         let rows = target.rows();
         let limit = half_step::<P>();
-        for (i, (obj, prep)) in self
-            .scene
-            .objects
-            .iter()
-            .zip(self.objects.iter())
-            .enumerate()
-        {
+        for (i, (obj, prep)) in self.prepared().enumerate() {
             let mv = view.mul(&obj.placement.matrix());
             let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
             let light: LightingSetup<Sp> = self.lighting(obj, &view);
@@ -103,7 +97,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                     let n = e.map(|v| v.0);
                     let p = e.map(|v| v.1);
                     st.drawn += 1;
-                    let w = clip_w(persp, &prep.clip, pos, *tri);
+                    let w = clip_w(persp, prep.clip(), pos, *tri);
                     // Twice the area in Q12.4² (256 per pixel): |·| < 2⁶³ for
                     // coordinates within ±2²⁰ (the guard band is far inside).
                     let area2 = crate::clip::signed_area(
@@ -146,7 +140,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                 let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
                     let (n, p) = e[k];
                     ClipVertex {
-                        pos: prep.clip.transform(&pos[tri[k] as usize]),
+                        pos: prep.clip().transform(&pos[tri[k] as usize]),
                         c: [n[0], n[1], n[2], p[0], p[1], p[2]],
                     }
                 });

@@ -207,7 +207,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             }
         };
         let cull = self.scene.cull_back;
-        for (obj, prep) in self.scene.objects.iter().zip(self.objects.iter()) {
+        for (obj, prep) in self.prepared() {
             let pos = obj.mesh.positions();
             let verts = &self.cache[prep.offset..prep.offset + pos.len()];
             for tri in obj.mesh.triangles() {
@@ -231,7 +231,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     Class::Clip => {
                         st.clipped += 1;
                         let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                            pos: prep.clip.transform(&pos[tri[k] as usize]),
+                            pos: prep.clip().transform(&pos[tri[k] as usize]),
                             c: colour(k),
                         });
                         self.clip_fan(cv, cull, &mut st, |s, _| {

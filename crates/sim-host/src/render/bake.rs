@@ -40,6 +40,16 @@ pub struct Chunk {
     pub triangles: Vec<[u16; 3]>,
 }
 
+/// The largest |coordinate| of a mesh's positions, raw Q16.16 (`Mesh::bound`).
+pub fn mesh_bound(m: &FixedMesh) -> i32 {
+    m.positions
+        .iter()
+        .flatten()
+        .map(|c| c.to_bits().saturating_abs())
+        .max()
+        .unwrap_or(0)
+}
+
 /// Splits `m` into runs of consecutive triangles using at most `max_vertices`
 /// distinct vertices each (`None`: one run, the mesh as it is). Errors if
 /// `max_vertices < 3`.
@@ -292,12 +302,13 @@ pub fn bake_loaded(
     let mut objects = Vec::new();
     for (i, m) in fixed.iter().enumerate() {
         let cs = chunks(m, chunk)?;
+        let bound = mesh_bound(m);
         let mut names = Vec::new();
         for (k, c) in cs.iter().enumerate() {
             let name = format!("O{i}C{k}");
             arrays_src(&mut body, &name, c);
             flash += c.positions.len() * VERTEX_BYTES + c.triangles.len() * TRIANGLE_BYTES;
-            names.push(format!("(&{name}_P, &{name}_N, &{name}_T)"));
+            names.push(format!("(&{name}_P, &{name}_N, &{name}_T, {bound})"));
         }
         let largest = cs.iter().map(|c| c.positions.len()).max().unwrap_or(0);
         let repeated: usize = cs.iter().map(|c| c.positions.len()).sum::<usize>();
@@ -335,12 +346,12 @@ pub fn bake_loaded(
     }
     f.push_str(
         "\n/// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,\n\
-         /// Q2.14 normals, triangles.\n\
-         pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]]);\n\n\
+         /// Q2.14 normals, triangles, and the whole mesh's bound (raw Q16.16).\n\
+         pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]], i32);\n\n\
          const fn q(bits: i32) -> Q16_16 {\n    Q16_16::from_bits(bits)\n}\n\n\
          const fn n(bits: i16) -> Q2_14 {\n    Q2_14::from_bits(bits)\n}\n\n\
-         /// The core's view of a chunk.\n\
-         pub fn chunk_mesh(c: &Chunk) -> Result<Mesh<'static>, MeshError> {\n    Mesh::new(c.0, c.1, c.2)\n}\n\n",
+         /// The core's view of a chunk, transformed as the whole mesh is (its bound).\n\
+         pub fn chunk_mesh(c: &Chunk) -> Result<Mesh<'static>, MeshError> {\n    Mesh::new(c.0, c.1, c.2).map(|m| m.with_bound(c.3))\n}\n\n",
     );
     let _ = writeln!(
         f,

@@ -312,6 +312,7 @@ pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Resul
     if d.format != FormatName::RGB565LE || ls.fixed.len() != 1 {
         return Err("render_chunked takes one-object rgb565le scenes".into());
     }
+    let bound = super::bake::mesh_bound(&ls.fixed[0]);
     let meshes: Vec<FixedMesh> = super::bake::chunks(&ls.fixed[0], Some(max_vertices))?
         .into_iter()
         .map(|c| FixedMesh {
@@ -320,20 +321,26 @@ pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Resul
             triangles: c.triangles,
         })
         .collect();
-    with_types!(d, P, Sp, swap => chunked_as::<P, Sp>(d, &meshes, max_vertices, rows)
+    with_types!(d, P, Sp, swap => chunked_as::<P, Sp>(d, &meshes, bound, max_vertices, rows)
         .map(|b| swapped(b, swap)))
 }
 
 fn chunked_as<P: PixelFormat, Sp: Lighting>(
     d: &SceneDesc,
     meshes: &[FixedMesh],
+    bound: i32,
     max_vertices: usize,
     rows: u32,
 ) -> Result<Vec<u8>, String> {
+    // Each chunk transformed as the whole mesh (its bound), as the firmware does.
     let scenes = meshes
         .iter()
-        .map(|m| core_scene(d, std::slice::from_ref(m)))
-        .collect::<Result<Vec<_>, _>>()?;
+        .map(|m| {
+            let mut s = core_scene(d, std::slice::from_ref(m))?;
+            s.objects[0].mesh = s.objects[0].mesh.with_bound(bound);
+            Ok(s)
+        })
+        .collect::<Result<Vec<_>, String>>()?;
     let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); max_vertices];
     let (color, _) = bands::<P>(d, rows, |strip| {
