@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 
 use crate::catalogue::{scene_cases, SceneCase};
-use fixshade_sim::render::bake::bake_loaded;
+use fixshade_sim::render::bake::{bake_loaded, CHUNK_SRC};
 
 /// The chunks' vertex limit of the Cortex-M0 layout (its vertex cache).
 pub const CHUNK: usize = 64;
@@ -43,9 +43,7 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
              use fixshade::fixed::{{Q16_16, Q2_14}};\n\
              use fixshade::geometry::{{Mesh, MeshError}};\n\
              use fixshade::scene::Scene;\n\n\
-             /// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,\n\
-             /// Q2.14 normals, triangles (every case module's `Chunk`).\n\
-             pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]]);\n\n\
+             {CHUNK_SRC}\
              /// One baked case.\n\
              pub struct SceneCase {{\n    \
                  /// The catalogue's name of the case.\n    pub name: &'static str,\n    \
@@ -56,9 +54,7 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
                  /// Vertices in the largest chunk.\n    pub max_chunk_vertices: usize,\n    \
                  /// Vertices of the scene (the whole-mesh vertex cache).\n    pub vertices: usize,\n    \
                  /// The scene, each object with the mesh of its first chunk.\n    pub scene: fn() -> Result<Scene<'static>, MeshError>,\n\
-             }}\n\n\
-             /// The core's view of a chunk.\n\
-             pub fn chunk_mesh(c: &Chunk) -> Result<Mesh<'static>, MeshError> {{\n    Mesh::new(c.0, c.1, c.2)\n}}\n\n",
+             }}\n\n",
             match chunk {
                 None => "whole meshes".to_string(),
                 Some(n) => format!("meshes in chunks of at most {n} vertices"),

@@ -123,7 +123,7 @@ const IMAGES: &[Image] = &[
         "fixshade-microbit-scenes",
         Kind::Scenes,
     ),
-    // The guard-band sphere alone (its 149 KB mesh), half of the span methods each.
+    // The guard-band sphere alone (its 149 KB mesh), a third of the span methods each.
     m0(
         "scenes,scenes-guard",
         "fixshade-microbit-scenes",
@@ -141,6 +141,16 @@ const IMAGES: &[Image] = &[
     ),
     m0(
         "scenes,scenes-flat,scenes-guard-b",
+        "fixshade-microbit-scenes",
+        Kind::Scenes,
+    ),
+    m0(
+        "scenes,scenes-guard-c",
+        "fixshade-microbit-scenes",
+        Kind::Scenes,
+    ),
+    m0(
+        "scenes,scenes-flat,scenes-guard-c",
         "fixshade-microbit-scenes",
         Kind::Scenes,
     ),

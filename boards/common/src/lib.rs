@@ -317,20 +317,28 @@ pub fn cases<M: Mode, P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<
     fixshade::for_each_span_method!(cases[M, P, T])
 }
 
-/// Span methods in [`cases_first`] (the rest are in [`cases_rest`]).
-pub const FIRST_CASES: usize = 8;
+/// Span methods in each third of [`cases`] ([`cases_first`], [`cases_second`],
+/// [`cases_third`]): for an image whose flash holds the code of a third of them.
+pub const THIRD_CASES: usize = 5;
 
-/// The first [`FIRST_CASES`] span methods of [`cases`]: for an image whose flash
-/// holds the code of about half of them.
+const _: () = assert!(3 * THIRD_CASES == CASES);
+
+/// The first [`THIRD_CASES`] span methods of [`cases`].
 pub fn cases_first<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); FIRST_CASES] {
-    fixshade::for_each_span_method!(take[cases [M, P, T] [x x x x x x x x]])
+) -> [(&'static str, DrawFn<P, T>); THIRD_CASES] {
+    fixshade::for_each_span_method!(take[cases [M, P, T] [x x x x x]])
 }
 
-/// The span methods of [`cases`] after the first [`FIRST_CASES`].
-pub fn cases_rest<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); CASES - FIRST_CASES] {
-    fixshade::for_each_span_method!(skip[cases [M, P, T] [x x x x x x x x]])
+/// The next [`THIRD_CASES`] span methods of [`cases`].
+pub fn cases_second<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); THIRD_CASES] {
+    fixshade::for_each_span_method!(skip[take [cases [M, P, T] [x x x x x]] [x x x x x]])
+}
+
+/// The last [`THIRD_CASES`] span methods of [`cases`].
+pub fn cases_third<M: Mode, P: PixelFormat, T: Target<P>>(
+) -> [(&'static str, DrawFn<P, T>); THIRD_CASES] {
+    fixshade::for_each_span_method!(skip[cases [M, P, T] [x x x x x x x x x x]])
 }
 
 /// Number of cases in [`divider_cases`].

@@ -9,12 +9,11 @@
 //! `cargo xtask qemu` builds it (`--features scenes --bin fixshade-microbit-scenes`)
 //! and compares every byte with the host drawing the same strips and chunks.
 //!
-//! Eight images share the work (flash, see [`CASES`] and [`spans`]): features
+//! Ten images share the work (flash, see [`CASES`] and [`spans`]): features
 //! `scenes` (Gouraud, first half of the cases), `scenes,scenes-flat`,
 //! `scenes,scenes-b` (second half) and `scenes,scenes-flat,scenes-b`; the guard-band
-//! sphere alone with the first eight span methods, `scenes,scenes-guard` and
-//! `scenes,scenes-flat,scenes-guard`, and with the other seven, `scenes,scenes-guard-b`
-//! and `scenes,scenes-flat,scenes-guard-b`. Not drawn, and logged as such:
+//! sphere alone with a third of the span methods each, `scenes,scenes-guard`,
+//! `scenes,scenes-guard-b` and `scenes,scenes-guard-c`, each also with `scenes-flat`. Not drawn, and logged as such:
 //! `framebuffer-4095-wide` (one Rgb565 row with its depth row is 16 KiB, all of the
 //! RAM).
 #![no_std]
@@ -60,7 +59,7 @@ const MAX_OBJECTS: usize = 2;
 /// take 330 KB of flash (the guard-band sphere alone 149 KB), and the code of the
 /// 15 span methods in one shading mode about 150 KB, so the cases are split over
 /// two images (`scenes-b` selects the second) and the guard-band case has its own
-/// (`scenes-guard`), with half of the span methods (see [`spans`]).
+/// (`scenes-guard`), with a third of the span methods (see [`spans`]).
 #[cfg(not(any(feature = "scenes-b", feature = "scenes-guard")))]
 const CASES: &[SceneCase] = &[
     baked::NEAR_PLANE_CROSSING,
@@ -84,26 +83,32 @@ const CASES: &[SceneCase] = &[baked::GUARD_BAND_CLIPPING];
 
 /// The span methods this image draws, named as the host names them: every one
 /// ([`fixshade_boards_common::cases`]), except in the guard-band images, which draw
-/// about half of them each ([`fixshade_boards_common::cases_first`] and
-/// [`fixshade_boards_common::cases_rest`]: the code of all 15 with the mesh overflows
-/// the flash by 43 584 B in Gouraud shading, 22 016 B in flat).
+/// a third of them each ([`fixshade_boards_common::cases_first`],
+/// [`fixshade_boards_common::cases_second`], [`fixshade_boards_common::cases_third`]:
+/// eight of the 15 with the mesh overflow the flash by 3 216 B in Gouraud shading).
 #[cfg(not(feature = "scenes-guard"))]
 fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); CASES_SPANS] {
     fixshade_boards_common::cases::<Draw, Rgb565Le, Strip<'s, Rgb565Le>>()
 }
 #[cfg(not(feature = "scenes-guard"))]
 const CASES_SPANS: usize = fixshade_boards_common::CASES;
-#[cfg(all(feature = "scenes-guard", not(feature = "scenes-guard-b")))]
-fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); fixshade_boards_common::FIRST_CASES] {
+#[cfg(all(
+    feature = "scenes-guard",
+    not(any(feature = "scenes-guard-b", feature = "scenes-guard-c"))
+))]
+fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); THIRD] {
     fixshade_boards_common::cases_first::<Draw, Rgb565Le, Strip<'s, Rgb565Le>>()
 }
 #[cfg(feature = "scenes-guard-b")]
-fn spans<'s>() -> [(
-    &'static str,
-    DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>,
-); fixshade_boards_common::CASES - fixshade_boards_common::FIRST_CASES] {
-    fixshade_boards_common::cases_rest::<Draw, Rgb565Le, Strip<'s, Rgb565Le>>()
+fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); THIRD] {
+    fixshade_boards_common::cases_second::<Draw, Rgb565Le, Strip<'s, Rgb565Le>>()
 }
+#[cfg(feature = "scenes-guard-c")]
+fn spans<'s>() -> [(&'static str, DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>); THIRD] {
+    fixshade_boards_common::cases_third::<Draw, Rgb565Le, Strip<'s, Rgb565Le>>()
+}
+#[cfg(feature = "scenes-guard")]
+use fixshade_boards_common::THIRD_CASES as THIRD;
 
 /// The shading mode of this image (`scenes-flat`: flat, else Gouraud), with its
 /// table of span methods.

@@ -40,6 +40,15 @@ pub struct Chunk {
     pub triangles: Vec<[u16; 3]>,
 }
 
+/// The baked `Chunk` type and its `chunk_mesh` (every baked file that holds chunks
+/// declares them so; needs `Q16_16`, `Q2_14`, `Mesh` and `MeshError` in scope).
+pub const CHUNK_SRC: &str = "/// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,\n\
+     /// Q2.14 normals, triangles, and the whole mesh's bound (raw Q16.16).\n\
+     pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]], i32);\n\n\
+     /// The core's view of a chunk, transformed as the whole mesh is (its bound).\n\
+     pub fn chunk_mesh(c: &Chunk) -> Result<Mesh<'static>, MeshError> {\n    \
+     Mesh::new(c.0, c.1, c.2).map(|m| m.with_bound(c.3))\n}\n\n";
+
 /// The largest |coordinate| of a mesh's positions, raw Q16.16 (`Mesh::bound`).
 pub fn mesh_bound(m: &FixedMesh) -> i32 {
     m.positions
@@ -344,14 +353,11 @@ pub fn bake_loaded(
              use fixshade::scene::{Camera, Object, Placement, Projection, Scene, ShadingMode};\n",
         );
     }
+    f.push('\n');
+    f.push_str(CHUNK_SRC);
     f.push_str(
-        "\n/// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,\n\
-         /// Q2.14 normals, triangles, and the whole mesh's bound (raw Q16.16).\n\
-         pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]], i32);\n\n\
-         const fn q(bits: i32) -> Q16_16 {\n    Q16_16::from_bits(bits)\n}\n\n\
-         const fn n(bits: i16) -> Q2_14 {\n    Q2_14::from_bits(bits)\n}\n\n\
-         /// The core's view of a chunk, transformed as the whole mesh is (its bound).\n\
-         pub fn chunk_mesh(c: &Chunk) -> Result<Mesh<'static>, MeshError> {\n    Mesh::new(c.0, c.1, c.2).map(|m| m.with_bound(c.3))\n}\n\n",
+        "const fn q(bits: i32) -> Q16_16 {\n    Q16_16::from_bits(bits)\n}\n\n\
+         const fn n(bits: i16) -> Q2_14 {\n    Q2_14::from_bits(bits)\n}\n\n",
     );
     let _ = writeln!(
         f,
