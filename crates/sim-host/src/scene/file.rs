@@ -97,11 +97,11 @@
 //! | `lon` | integer | 32 | 3..=1024; sphere only (longitude segments) |
 //! | `lat` | integer | 20 | 2..=1024; sphere only (latitude segments) |
 //! | `level` | integer | 8 | 1..=64; teapot only (subdivisions per patch side) |
-//! | `path` | string | required for `obj` | non-empty; obj only. A relative path is kept relative: the caller resolves it against the scene file's directory |
+//! | `path` | string | required for `obj` | non-empty; obj only. A relative path is kept relative: the caller resolves it against the scene file's directory. The file's `vn` normals are used when its faces give them (hard edges stay hard), else normals are recomputed; each material group (`usemtl` of an `mtllib` file) is drawn as an object of its own with this object's placement (all objects together at most 16) |
 //! | `translate` | vector | `[0, 0, 0]` | world units |
 //! | `rotate` | vector | `[0, 0, 0]` | degrees about x, y and z (x applied first) |
 //! | `scale` | number | 1 | > 0 (uniform) |
-//! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges |
+//! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges. For an OBJ with MTL materials: without this table each group draws with its MTL material (`Kd`, `Ka`, `Ks`, `Ke`, `Ns`), keys the MTL file leaves out taken from `[material]`; with it, this material replaces the MTL materials for every group |
 //!
 //! ## `[[sphere]]` and `[[plane]]` (0 to 8 spheres, 0 to 4 planes)
 //!
