@@ -1,4 +1,5 @@
-//! Golden images: the fixed-point render of each figure must equal the committed
+//! Golden images: the fixed-point render of each figure, and of the catalogue
+//! scenes of users' OBJ models ([`CATALOGUE_SCENES`]), must equal the committed
 //! `tests/golden/NAME.png` exactly, pixels and coverage (the coverage mask travels
 //! in the PNG's `fixshade:coverage` chunk).
 //!
@@ -8,8 +9,23 @@
 
 use fixshade_sim::image::Image;
 use fixshade_sim::render;
-use fixshade_sim::scene::load::load_arg;
+use fixshade_sim::scene::load::{load_arg, LoadedScene};
 use fixshade_tests::*;
+
+/// Scenes of the hard-case catalogue (`tests/catalogue/scenes/NAME.toml`) with
+/// golden images: OBJ `vn` normals (flat faces), recomputed normals (smooth) and
+/// MTL materials.
+const CATALOGUE_SCENES: [&str; 3] = ["obj-cube-vn", "obj-cube-no-vn", "obj-mtl"];
+
+/// Every scene with a golden image: the figures, then [`CATALOGUE_SCENES`].
+fn golden_scenes() -> Vec<(&'static str, LoadedScene)> {
+    let figures = FIGURES.iter().map(|name| (*name, load_arg(name).unwrap()));
+    let catalogue = CATALOGUE_SCENES.iter().map(|name| {
+        let path = catalogue::path(&format!("scenes/{name}.toml"));
+        (*name, load_arg(&path.display().to_string()).unwrap())
+    });
+    figures.chain(catalogue).collect()
+}
 
 const REGENERATE: &str =
     "if the change is intended, regenerate with `FIXSHADE_BLESS=1 cargo test -p fixshade-tests --release --test golden` and review the PNGs";
@@ -59,8 +75,7 @@ fn differences(name: &str, golden: &Image, got: &Image) -> Option<String> {
 fn figures_match_golden_images() {
     let dir = package_path("golden");
     let mut failures = Vec::new();
-    for name in FIGURES {
-        let ls = load_arg(name).unwrap();
+    for (name, ls) in golden_scenes() {
         let got = render::render(&ls, None).unwrap().image;
         let path = dir.join(format!("{name}.png"));
         if bless() {

@@ -157,11 +157,12 @@ pub fn render(
         e => format!(", {e} lighting evaluations"),
     };
     let mut text = format!(
-        "{}: {} triangles ({} drawn, {} culled, {} clipped), {} covered pixels{evals} -> {}",
+        "{}: {} triangles ({} drawn, {} {}, {} clipped), {} covered pixels{evals} -> {}",
         ls.name,
         r.stats.triangles,
         r.stats.drawn,
         r.stats.culled,
+        skipped_words(ls.desc.cull_back),
         r.stats.clipped,
         r.image.covered_count(),
         out.display()
@@ -179,6 +180,18 @@ pub fn render(
         text.push_str(&tables::effects::explain(&ls.name, &effects, Some(&costs)));
     }
     Ok(text)
+}
+
+/// What the core's `Stats::culled` counts, in words: the triangles it drops before
+/// rasterizing. Without back-face culling none of them is a back face: they snapped
+/// to zero area or lie outside the frame. (The core counts the three reasons
+/// together; separating them needs a counter per reason in the core.)
+pub fn skipped_words(cull_back: bool) -> &'static str {
+    if cull_back {
+        "culled (back faces, zero area after snapping, or off the frame)"
+    } else {
+        "skipped (zero area after snapping, or off the frame; culling is off)"
+    }
 }
 
 /// `fixshade reference`: the f64 reference render (per-pixel lighting with `phong`).

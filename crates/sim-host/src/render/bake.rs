@@ -5,7 +5,13 @@
 //! scene file (`.toml`) or a Wavefront OBJ file. A scene is baked with its camera,
 //! lights, materials and placements as a `scene()` function, so the firmware renders
 //! exactly the scene the host renders: both start from the same quantised numbers
-//! ([`crate::scene::convert`]). An OBJ is baked as one mesh, quantised the same way.
+//! ([`crate::scene::convert`]). An OBJ is baked as one mesh per material group, with
+//! the vertices split by (position, normal) as the loader splits them
+//! ([`crate::scene::mesh::obj`]), quantised the same way.
+//!
+//! Every bake has a `MATERIALS` array, one material per object: a scene's objects'
+//! materials (the MTL material of an OBJ group where the scene lets it apply), or
+//! for a bare OBJ each group's MTL material over OpenGL's default material.
 //!
 //! `--chunk N` splits each mesh into runs of consecutive triangles that use at most
 //! `N` distinct vertices, each run with its own vertex arrays (shared vertices are
@@ -17,8 +23,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::scene::convert::{background_channels, core_scene, quantize_mesh, FixedMesh};
-use crate::scene::desc::{MeshSource, Named, SceneDesc};
+use crate::scene::convert::{background_channels, core_scene, material, quantize_mesh, FixedMesh};
+use crate::scene::desc::{MaterialDesc, MeshSource, Named, SceneDesc};
 use crate::scene::load;
 use crate::scene::{builtin, mesh};
 use fixshade::fixed::{Q16_16, Q2_14};
@@ -207,7 +213,7 @@ fn scene_src(s: &Scene<'_>) -> String {
         let p = &o.placement;
         let _ = writeln!(
             f,
-            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: {},\n    }});",
+            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n    }});",
             v3(&p.translate),
             p.rotate
                 .iter()
@@ -215,7 +221,6 @@ fn scene_src(s: &Scene<'_>) -> String {
                 .collect::<Vec<_>>()
                 .join(", "),
             q(p.scale),
-            material_src(&o.material)
         );
     }
     f.push_str("    Ok(s)\n}\n");
@@ -280,10 +285,18 @@ pub fn bake(arg: &str, chunk: Option<usize>, command: &str) -> Result<Baked, Str
             bake_loaded(arg, Some(&ls.desc), &ls.fixed, chunk, command)
         }
         Input::Obj(p) => {
-            let m = mesh::build(&MeshSource::Obj { path: p }, Path::new(""))
+            let parts = mesh::build(&MeshSource::Obj { path: p }, Path::new(""))
                 .map_err(|e| e.to_string())?;
-            let q = quantize_mesh(&m);
-            bake_loaded(arg, None, &[FixedMesh::from_mesh(&q)?], chunk, command)
+            let fixed = parts
+                .iter()
+                .map(|part| FixedMesh::from_mesh(&quantize_mesh(&part.mesh)))
+                .collect::<Result<Vec<_>, _>>()?;
+            let gl = MaterialDesc::default();
+            let materials: Vec<MaterialDesc> = parts
+                .iter()
+                .map(|part| part.material.map_or(gl, |m| m.over(&gl)))
+                .collect();
+            bake_meshes(arg, None, &fixed, &materials, chunk, command)
         }
     }
 }
@@ -296,6 +309,22 @@ pub fn bake_loaded(
     arg: &str,
     desc: Option<&SceneDesc>,
     fixed: &[FixedMesh],
+    chunk: Option<usize>,
+    command: &str,
+) -> Result<Baked, String> {
+    let materials: Vec<MaterialDesc> = match desc {
+        Some(d) => d.objects.iter().map(|o| o.material).collect(),
+        None => vec![MaterialDesc::default(); fixed.len()],
+    };
+    bake_meshes(arg, desc, fixed, &materials, chunk, command)
+}
+
+/// [`bake_loaded`] with the objects' materials (one per mesh) given.
+fn bake_meshes(
+    arg: &str,
+    desc: Option<&SceneDesc>,
+    fixed: &[FixedMesh],
+    materials: &[MaterialDesc],
     chunk: Option<usize>,
     command: &str,
 ) -> Result<Baked, String> {
@@ -344,12 +373,13 @@ pub fn bake_loaded(
     f.push_str(
         "\n#![allow(dead_code, clippy::all)]\n\n\
          use fixshade::fixed::{Q16_16, Q2_14};\n\
-         use fixshade::geometry::{Mesh, MeshError};\n",
+         use fixshade::geometry::{Mesh, MeshError};\n\
+         use fixshade::light::Material;\n",
     );
     if desc.is_some() {
         f.push_str(
             "use fixshade::fixed::Angle;\n\
-             use fixshade::light::{Light, LightKind, Material};\n\
+             use fixshade::light::{Light, LightKind};\n\
              use fixshade::scene::{Camera, Object, Placement, Projection, Scene, ShadingMode};\n",
         );
     }
@@ -364,6 +394,15 @@ pub fn bake_loaded(
         "/// Every object's chunks, in the scene's object order.\npub static OBJECTS: [&[Chunk]; {}] = [{}];\n",
         objects.len(),
         objects.join(", ")
+    );
+    let _ = writeln!(
+        f,
+        "/// Every object's material, in the scene's object order.\npub static MATERIALS: [Material; {}] = [\n{}];\n",
+        materials.len(),
+        materials
+            .iter()
+            .map(|m| format!("    {},\n", material_src(&material(m))))
+            .collect::<String>()
     );
     let largest = fixed
         .iter()

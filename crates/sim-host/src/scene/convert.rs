@@ -17,6 +17,12 @@ use fixshade::scene::{
     Camera, Object, Placement, Projection as CoreProjection, Scene, ShadingMode,
 };
 
+/// The smallest positive Q16.16 number, 2⁻¹⁶: the core's smallest perspective
+/// near plane (`Mat4::perspective` takes `near > 0` after rounding).
+pub const Q16_MIN_POSITIVE: f64 = 1.0 / 65536.0;
+/// The largest Q16.16 number, 32767.99998…: larger values saturate.
+pub const Q16_MAX: f64 = i32::MAX as f64 / 65536.0;
+
 /// Rounds to Q16.16, saturating.
 pub fn q16(v: f64) -> Q16_16 {
     let r = (v * 65536.0).round();

@@ -20,6 +20,70 @@ pub struct MeshData {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// One drawable piece of a mesh source: the whole mesh of a built-in model, or one
+/// material group of an OBJ file ([`super::mesh::obj`]), each drawn as an object of
+/// its own with the same placement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshPart {
+    /// The OBJ group's name (`o`/`g`, as tobj reports it), or the built-in model's.
+    pub name: String,
+    /// The triangles of the piece, with their own vertex arrays.
+    pub mesh: MeshData,
+    /// The material an MTL file gives the piece (`usemtl`), if any: the keys the
+    /// file sets, applied over the scene's material ([`MtlMaterial::over`]).
+    pub material: Option<MtlMaterial>,
+}
+
+/// A material of an MTL file as fixshade reads it: each key it sets, the others
+/// left to the scene's material. Colours are checked to lie in 0..=1; `Ns` is
+/// clamped to the core's 1..=1000.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MtlMaterial {
+    /// `Ke`: emission.
+    pub emission: Option<[f64; 3]>,
+    /// `Ka`: ambient reflectance.
+    pub ambient: Option<[f64; 3]>,
+    /// `Kd`: diffuse reflectance.
+    pub diffuse: Option<[f64; 3]>,
+    /// `Ks`: specular reflectance.
+    pub specular: Option<[f64; 3]>,
+    /// `Ns`: Blinn exponent.
+    pub shininess: Option<f64>,
+}
+
+impl MtlMaterial {
+    /// `base` with every key this material sets replaced.
+    ///
+    /// ```
+    /// use fixshade_sim::scene::desc::{MaterialDesc, MtlMaterial};
+    /// let red = MtlMaterial { diffuse: Some([0.8, 0.1, 0.1]), ..Default::default() };
+    /// let m = red.over(&MaterialDesc::default());
+    /// assert_eq!((m.diffuse, m.ambient), ([0.8, 0.1, 0.1], [0.2, 0.2, 0.2]));
+    /// ```
+    pub fn over(&self, base: &MaterialDesc) -> MaterialDesc {
+        MaterialDesc {
+            emission: self.emission.unwrap_or(base.emission),
+            ambient: self.ambient.unwrap_or(base.ambient),
+            diffuse: self.diffuse.unwrap_or(base.diffuse),
+            specular: self.specular.unwrap_or(base.specular),
+            shininess: self.shininess.unwrap_or(base.shininess),
+        }
+    }
+}
+
+/// Where an object's material comes from, which decides whether the materials of
+/// an OBJ's MTL file apply to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MaterialFrom {
+    /// The scene's `[material]` table (or OpenGL's defaults): an OBJ group with a
+    /// `usemtl` material draws with that material's keys over it.
+    #[default]
+    Scene,
+    /// The object's own `[object.material]` table: it overrides the MTL materials,
+    /// every group of the OBJ draws with it (as a `glMaterial` call after loading).
+    Object,
+}
+
 /// Where a mesh comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSource {
@@ -59,6 +123,21 @@ pub struct ObjectDesc {
     pub scale: f64,
     /// The object's material.
     pub material: MaterialDesc,
+    /// Where [`ObjectDesc::material`] comes from (whether an OBJ's MTL materials
+    /// apply).
+    pub material_from: MaterialFrom,
+}
+
+impl ObjectDesc {
+    /// The material `part` of this object's mesh draws with: the object's own
+    /// material when the scene file gives one (`[object.material]`), else the MTL
+    /// material of the part over the scene's material, else the scene's material.
+    pub fn part_material(&self, part: &MeshPart) -> MaterialDesc {
+        match (self.material_from, &part.material) {
+            (MaterialFrom::Scene, Some(mtl)) => mtl.over(&self.material),
+            _ => self.material,
+        }
+    }
 }
 
 /// Camera projection.

@@ -55,8 +55,8 @@
 //! | `projection` | string | `"perspective"` | `perspective`, `orthographic` |
 //! | `fovy` | number | 45 | degrees, strictly between 0 and 180; perspective only |
 //! | `height` | number | 2 | view-volume height in world units, > 0; orthographic only |
-//! | `near` | number | 1 | > 0 for perspective; any finite value for orthographic |
-//! | `far` | number | 100 | > `near` |
+//! | `near` | number | 1 | perspective: 2⁻¹⁶ (0.0000152587890625, the smallest positive Q16.16 number the core takes) up to `far`; orthographic: any value from −32768 up to `far` |
+//! | `far` | number | 100 | > `near` (also after rounding both to Q16.16), at most 32767.99998 (the largest Q16.16 number) |
 //!
 //! ## `[lighting]`
 //!
@@ -97,11 +97,11 @@
 //! | `lon` | integer | 32 | 3..=1024; sphere only (longitude segments) |
 //! | `lat` | integer | 20 | 2..=1024; sphere only (latitude segments) |
 //! | `level` | integer | 8 | 1..=64; teapot only (subdivisions per patch side) |
-//! | `path` | string | required for `obj` | non-empty; obj only. A relative path is kept relative: the caller resolves it against the scene file's directory |
+//! | `path` | string | required for `obj` | non-empty; obj only. A relative path is kept relative: the caller resolves it against the scene file's directory. The file's `vn` normals are used when its faces give them (hard edges stay hard), else normals are recomputed; each material group (`usemtl` of an `mtllib` file) is drawn as an object of its own with this object's placement (all objects together at most 16) |
 //! | `translate` | vector | `[0, 0, 0]` | world units |
 //! | `rotate` | vector | `[0, 0, 0]` | degrees about x, y and z (x applied first) |
 //! | `scale` | number | 1 | > 0 (uniform) |
-//! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges |
+//! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges. For an OBJ with MTL materials: without this table each group draws with its MTL material (`Kd`, `Ka`, `Ks`, `Ke`, `Ns`), keys the MTL file leaves out taken from `[material]`; with it, this material replaces the MTL materials for every group |
 //!
 //! ## `[[sphere]]` and `[[plane]]` (0 to 8 spheres, 0 to 4 planes)
 //!
@@ -194,9 +194,10 @@
 //! The built-in scenes (`fixshade list` names them; text in `crates/sim-host/scenes/`) are
 //! further examples.
 
+use super::convert::{q16, Q16_MAX, Q16_MIN_POSITIVE};
 use super::desc::{
-    CameraDesc, DivideName, FormatName, LightDesc, LightKind, MaterialDesc, MeshSource, Named,
-    ObjectDesc, Projection, SceneDesc, ShadingName, SpanName, SpecularName,
+    CameraDesc, DivideName, FormatName, LightDesc, LightKind, MaterialDesc, MaterialFrom,
+    MeshSource, Named, ObjectDesc, Projection, SceneDesc, ShadingName, SpanName, SpecularName,
 };
 use std::fmt;
 use std::ops::Range;
@@ -939,10 +940,13 @@ fn camera(s: &Section<'_, '_>) -> R<CameraDesc> {
                 format!("`fovy` must be between 0 and 180 degrees (exclusive), found {fovy}"),
             );
         }
-        if near <= 0.0 {
+        if near < Q16_MIN_POSITIVE {
             return fail(
                 s.span_of("near"),
-                format!("`near` must be greater than 0 for a perspective projection, found {near}"),
+                format!(
+                    "`near` must be at least {Q16_MIN_POSITIVE} (2^-16, the smallest positive \
+                     Q16.16 number the core takes) for a perspective projection, found {near}"
+                ),
             );
         }
         Projection::Perspective {
@@ -951,7 +955,17 @@ fn camera(s: &Section<'_, '_>) -> R<CameraDesc> {
             far,
         }
     };
-    if far <= near {
+    // The core compares the planes after rounding to Q16.16 (`Mat4::perspective`,
+    // `Mat4::orthographic`: `far > near`), and larger values would saturate.
+    for (key, value) in [("near", near), ("far", far)] {
+        if !(-32768.0..=Q16_MAX).contains(&value) {
+            return fail(
+                s.span_of(key),
+                format!("`{key}` must be between -32768 and {Q16_MAX} (the Q16.16 range), found {value}"),
+            );
+        }
+    }
+    if q16(far) <= q16(near) {
         return match s.get("far") {
             Some(v) => fail(
                 v.span(),
@@ -1096,12 +1110,15 @@ fn object(s: &Section<'_, '_>, base: MaterialDesc) -> R<ObjectDesc> {
             format!("`scale` must be greater than 0, found {scale}"),
         );
     }
-    let material = match s.get("material") {
-        Some(v) => material(
-            &Section::from_value("[object.material]", "material", v, MATERIAL_KEYS)?,
-            base,
-        )?,
-        None => base,
+    let (material, material_from) = match s.get("material") {
+        Some(v) => (
+            material(
+                &Section::from_value("[object.material]", "material", v, MATERIAL_KEYS)?,
+                base,
+            )?,
+            MaterialFrom::Object,
+        ),
+        None => (base, MaterialFrom::Scene),
     };
     Ok(ObjectDesc {
         mesh,
@@ -1109,6 +1126,7 @@ fn object(s: &Section<'_, '_>, base: MaterialDesc) -> R<ObjectDesc> {
         rotate_deg: s.vector("rotate", [0.0; 3])?,
         scale,
         material,
+        material_from,
     })
 }
 
@@ -1350,6 +1368,7 @@ mod tests {
                 rotate_deg: [0.0; 3],
                 scale: 1.0,
                 material: MaterialDesc::default(),
+                material_from: MaterialFrom::Scene,
             }]
         );
         assert_eq!(
@@ -1547,6 +1566,32 @@ mod tests {
         let many: String = (0..17).map(|_| "[[object]]\nmesh = \"robot\"\n").collect();
         let e = err(&format!("[camera]\neye = [0, 0, 5]\n{many}"));
         assert_eq!(e.line, Some(2 + 2 * 16 + 1), "{e}");
+    }
+
+    #[test]
+    fn scene_file_tiny_near_plane_names_file_line_and_range() {
+        let text = "[camera]\neye = [0.0, 0.0, 4.0]\nnear = 1e-6\n[[object]]\nmesh = \"sphere\"\n";
+        assert_eq!(
+            parse_scene(text, "tiny.toml").unwrap_err().to_string(),
+            "tiny.toml:3: `near` must be at least 0.0000152587890625 (2^-16, the smallest \
+             positive Q16.16 number the core takes) for a perspective projection, found 0.000001"
+        );
+        // The smallest accepted near plane is one the core takes.
+        let ok = text.replace("1e-6", "0.0000152587890625");
+        let d = parse_scene(&ok, "ok.toml").unwrap();
+        let c = &crate::scene::convert::quantize_scene(&d).camera;
+        assert!(
+            matches!(c.projection, Projection::Perspective { near, .. } if near == Q16_MIN_POSITIVE)
+        );
+        // Planes that collapse on the Q16.16 grid, or leave it, name the range too.
+        let e = err("[camera]\neye = [0.0, 0.0, 4.0]\nprojection = \"orthographic\"\nnear = 0.0\nfar = 0.000001\n[[object]]\nmesh = \"sphere\"\n");
+        assert_eq!(e.line, Some(5), "{e}");
+        let e = err("[camera]\neye = [0.0, 0.0, 4.0]\nfar = 1e6\n[[object]]\nmesh = \"sphere\"\n");
+        assert!(
+            e.to_string()
+                .contains(":3: `far` must be between -32768 and 32767.99998"),
+            "{e}"
+        );
     }
 
     #[test]

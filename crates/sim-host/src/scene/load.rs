@@ -4,10 +4,14 @@
 use std::path::{Path, PathBuf};
 
 use super::convert::{quantize_mesh, quantize_scene, FixedMesh};
-use super::desc::{MeshData, SceneDesc};
+use super::desc::{MeshData, ObjectDesc, SceneDesc};
 use super::{builtin, file, mesh};
 
 /// A scene with its meshes built and quantised, ready for both renderers.
+///
+/// Its objects are the parts to draw: a scene object whose OBJ file has several
+/// material groups becomes one object per group, each with the same placement and
+/// its own material ([`ObjectDesc::part_material`]), in the file's order.
 #[derive(Clone, Debug)]
 pub struct LoadedScene {
     /// Where the scene came from (file path or built-in name).
@@ -38,20 +42,37 @@ pub fn read_scene(arg: &str) -> Result<(SceneDesc, PathBuf), String> {
     Ok((d, dir))
 }
 
-/// Builds the meshes of `desc` (OBJ paths relative to `base_dir`) and quantises
-/// everything.
+/// Builds the meshes of `desc` (OBJ paths relative to `base_dir`), one object per
+/// mesh part (see [`LoadedScene`]), and quantises everything. Errors if the parts
+/// are more than the core's [`MAX_OBJECTS`](fixshade::scene::MAX_OBJECTS).
 pub fn load(name: &str, desc: &SceneDesc, base_dir: &Path) -> Result<LoadedScene, String> {
+    let mut objects = Vec::new();
     let mut meshes = Vec::new();
     let mut fixed = Vec::new();
     for o in &desc.objects {
-        let m = mesh::build(&o.mesh, base_dir).map_err(|e| e.to_string())?;
-        let q = quantize_mesh(&m);
-        fixed.push(FixedMesh::from_mesh(&q)?);
-        meshes.push(q);
+        for part in mesh::build(&o.mesh, base_dir).map_err(|e| e.to_string())? {
+            objects.push(ObjectDesc {
+                material: o.part_material(&part),
+                ..o.clone()
+            });
+            let q = quantize_mesh(&part.mesh);
+            fixed.push(FixedMesh::from_mesh(&q)?);
+            meshes.push(q);
+        }
     }
+    let max = fixshade::scene::MAX_OBJECTS;
+    if objects.len() > max {
+        return Err(format!(
+            "{name}: {} objects to draw (an OBJ file draws one per material group), \
+             the core draws at most {max}",
+            objects.len()
+        ));
+    }
+    let mut desc = desc.clone();
+    desc.objects = objects;
     Ok(LoadedScene {
         name: name.to_string(),
-        desc: quantize_scene(desc),
+        desc: quantize_scene(&desc),
         meshes,
         fixed,
     })

@@ -299,6 +299,7 @@ mod tests {
             rotate_deg: [90.0, 0.0, 90.0],
             scale: 2.0,
             material: MaterialDesc::default(),
+            material_from: Default::default(),
         };
         let m = model_matrix(&obj);
         // x: scale → (2,0,0); Rx keeps it; Rz(90) → (0,2,0); translate.

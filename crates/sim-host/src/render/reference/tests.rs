@@ -29,6 +29,7 @@ fn object(material: MaterialDesc) -> ObjectDesc {
         rotate_deg: [0.0; 3],
         scale: 1.0,
         material,
+        material_from: Default::default(),
     }
 }
 
@@ -168,6 +169,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
                 specular: [0.5; 3],
                 shininess: 20.0,
             },
+            material_from: Default::default(),
         }],
         shading: ShadingName::GOURAUD,
         span: SpanName::CLASSIC,

@@ -1,5 +1,7 @@
 //! Meshes for the simulator: built-in models (UV sphere, Newell's teapot, a
-//! procedural robot) and Wavefront OBJ files, all as f64 [`MeshData`].
+//! procedural robot) and Wavefront OBJ files with their MTL materials ([`obj`]),
+//! all as f64 [`MeshPart`]s: one for a built-in model, one per material group of
+//! an OBJ file.
 //!
 //! Every mesh this module returns has counter-clockwise triangles seen from
 //! outside (`(b - a) x (c - a)` points outward) and one unit normal per vertex.
@@ -9,7 +11,7 @@
 //! use fixshade_sim::scene::mesh;
 //!
 //! let ball = mesh::build(&MeshSource::Sphere { lon: 32, lat: 20 }, ".".as_ref()).unwrap();
-//! assert_eq!(ball.triangles.len(), 1216);
+//! assert_eq!(ball[0].mesh.triangles.len(), 1216);
 //!
 //! let err = mesh::build(&MeshSource::Sphere { lon: 2, lat: 20 }, ".".as_ref()).unwrap_err();
 //! assert_eq!(err.to_string(), "<builtin sphere>: `lon` must be in 3..=1024, found 2");
@@ -18,10 +20,10 @@
 use std::ops::RangeInclusive;
 use std::path::Path;
 
-use crate::scene::desc::{MeshData, MeshSource};
+use crate::scene::desc::{MeshData, MeshPart, MeshSource};
 
 mod error;
-mod obj;
+pub mod obj;
 mod robot;
 mod sphere;
 mod teapot;
@@ -29,7 +31,7 @@ mod teapot_data;
 pub(crate) mod vector;
 
 pub use error::MeshError;
-pub use obj::{load_obj, parse_obj, MAX_OBJ_VERTICES};
+pub use obj::{load_obj, parse_obj, MtlFile, MtlReader, MAX_OBJ_VERTICES};
 pub use robot::robot;
 pub use sphere::sphere;
 pub use teapot::teapot;
@@ -42,26 +44,34 @@ pub const SPHERE_LAT_RANGE: RangeInclusive<u32> = 2..=1024;
 /// Valid subdivision levels of the built-in teapot.
 pub const TEAPOT_LEVEL_RANGE: RangeInclusive<u32> = 1..=64;
 
-/// Builds the mesh a [`MeshSource`] names.
+/// Builds the mesh a [`MeshSource`] names: one part for a built-in model (without
+/// a material of its own), one per material group for an OBJ file ([`load_obj`]).
 ///
 /// A relative OBJ path is resolved against `base_dir` (normally the directory of
 /// the scene file); an absolute one is used as it is. Built-in models' arguments
 /// are checked against [`SPHERE_LON_RANGE`], [`SPHERE_LAT_RANGE`] and
 /// [`TEAPOT_LEVEL_RANGE`]; a value outside gives an error naming
 /// `<builtin sphere>` or `<builtin teapot>`.
-pub fn build(source: &MeshSource, base_dir: &Path) -> Result<MeshData, MeshError> {
+pub fn build(source: &MeshSource, base_dir: &Path) -> Result<Vec<MeshPart>, MeshError> {
+    let builtin = |name: &str, mesh: MeshData| {
+        Ok(vec![MeshPart {
+            name: name.to_owned(),
+            mesh,
+            material: None,
+        }])
+    };
     match *source {
         MeshSource::Sphere { lon, lat } => {
             const FILE: &str = "<builtin sphere>";
             check_range(FILE, "lon", lon, SPHERE_LON_RANGE)?;
             check_range(FILE, "lat", lat, SPHERE_LAT_RANGE)?;
-            Ok(sphere(lon, lat))
+            builtin("sphere", sphere(lon, lat))
         }
         MeshSource::Teapot { level } => {
             check_range("<builtin teapot>", "level", level, TEAPOT_LEVEL_RANGE)?;
-            Ok(teapot(level))
+            builtin("teapot", teapot(level))
         }
-        MeshSource::Robot => Ok(robot()),
+        MeshSource::Robot => builtin("robot", robot()),
         MeshSource::Obj { ref path } => load_obj(&base_dir.join(path)),
     }
 }
@@ -220,18 +230,13 @@ pub(crate) mod tests {
         for (source, expected) in cases {
             assert_eq!(build(&source, dir).unwrap_err().to_string(), expected);
         }
+        let mesh = |source: MeshSource| build(&source, dir).unwrap().remove(0).mesh;
         assert_eq!(
-            build(&MeshSource::Sphere { lon: 3, lat: 2 }, dir)
-                .unwrap()
-                .triangles
-                .len(),
+            mesh(MeshSource::Sphere { lon: 3, lat: 2 }).triangles.len(),
             6
         );
-        assert_eq!(
-            build(&MeshSource::Teapot { level: 1 }, dir).unwrap(),
-            teapot(1)
-        );
-        assert_eq!(build(&MeshSource::Robot, dir).unwrap(), robot());
+        assert_eq!(mesh(MeshSource::Teapot { level: 1 }), teapot(1));
+        assert_eq!(mesh(MeshSource::Robot), robot());
     }
 
     #[test]
@@ -241,7 +246,7 @@ pub(crate) mod tests {
             path: "obj/cube.obj".into(),
         };
         let cube = build(&relative, &base).unwrap();
-        assert_eq!(cube.triangles.len(), 12);
+        assert_eq!(cube[0].mesh.triangles.len(), 12);
         let absolute = MeshSource::Obj {
             path: base.join("obj/cube.obj"),
         };
