@@ -77,6 +77,9 @@ const CASES: &[SceneCase] = &[
     baked::BEHIND_CAMERA,
     baked::FRAMEBUFFER_1X1,
     baked::OFF_SCREEN,
+    baked::OBJ_CUBE_VN,
+    baked::OBJ_CUBE_NO_VN,
+    baked::OBJ_MTL,
 ];
 #[cfg(feature = "scenes-guard")]
 const CASES: &[SceneCase] = &[baked::GUARD_BAND_CLIPPING];
