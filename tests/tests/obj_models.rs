@@ -5,12 +5,16 @@
 use fixshade_sim::image::Image;
 use fixshade_sim::render;
 use fixshade_sim::scene::load::{load, read_scene, LoadedScene};
+use fixshade_sim::scene::names::FormatName;
 use fixshade_tests::catalogue;
 use fixshade_tests::{area2, project, P2};
 
+/// A catalogue scene drawn with 8-bit channels (the catalogue draws it in
+/// rgb565le, as the MCU images do).
 fn scene(name: &str) -> LoadedScene {
     let path = catalogue::path(&format!("scenes/{name}.toml"));
-    let (desc, dir) = read_scene(&path.display().to_string()).unwrap();
+    let (mut desc, dir) = read_scene(&path.display().to_string()).unwrap();
+    desc.format = FormatName::RGB888;
     load(name, &desc, &dir).unwrap()
 }
 
@@ -134,7 +138,8 @@ fn object_material_overrides_mtl_materials() {
     let path = catalogue::path("scenes/obj-mtl.toml");
     let text = std::fs::read_to_string(&path).unwrap()
         + "\n[object.material]\ndiffuse = [0.0, 0.0, 0.9]\n";
-    let desc = fixshade_sim::scene::file::parse_scene(&text, "override.toml").unwrap();
+    let mut desc = fixshade_sim::scene::file::parse_scene(&text, "override.toml").unwrap();
+    desc.format = FormatName::RGB888;
     let ls = load("override", &desc, path.parent().unwrap()).unwrap();
     let (left, right) = left_right(&ls);
     assert_eq!(left, right);
