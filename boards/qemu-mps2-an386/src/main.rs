@@ -28,11 +28,16 @@ use cortex_m_rt::{entry, exception};
 use fixshade::clip::signed_area;
 use fixshade::geometry::MeshError;
 use fixshade::raster::setup::setup;
-use fixshade::raster::setup::Record;
-use fixshade::raster::span::Gradient;
-use fixshade::render::{BandMemory, Frame, RenderError, Stats, XfVertex, NEEDED, OUTSIDE};
+use fixshade::render::{Frame, XfVertex, NEEDED, OUTSIDE};
 use fixshade::scene::Scene;
-use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le, Strip};
+use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
+// The banded frames (`banded`), drawn by the figure image only.
+#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+use fixshade::{
+    raster::{setup::Record, span::Gradient},
+    render::{BandMemory, RenderError, Stats},
+    target::Strip,
+};
 #[cfg(not(any(feature = "dividers", feature = "perspective")))]
 use fixshade_boards_common::cases;
 #[cfg(not(feature = "dividers"))]
@@ -341,14 +346,19 @@ fn only(figure: &str, case: &str) -> bool {
 
 /// Records and bins of a banded bench-sphere frame (the 128 × 80 sphere draws 5 384
 /// triangles; a 2-row band index of 2^16 entries holds either sphere's).
+#[cfg(not(any(feature = "dividers", feature = "perspective")))]
 const RECORDS: usize = 6000;
+#[cfg(not(any(feature = "dividers", feature = "perspective")))]
 static mut BAND_RECORDS: [Record; RECORDS] = [Record::EMPTY; RECORDS];
+#[cfg(not(any(feature = "dividers", feature = "perspective")))]
 static mut BAND_INDEX: [u16; 1 << 16] = [0; 1 << 16];
+#[cfg(not(any(feature = "dividers", feature = "perspective")))]
 static mut BAND_STARTS: [u32; 481] = [0; 481];
 
 /// Draws `fig` with `gradient` in bands of `rows` rows from one binning: the
 /// vertex stage, then the binning and every band, each band into the rows of `fb`
 /// it covers (so the frame file is the whole frame), logged as `layout`.
+#[cfg(not(any(feature = "dividers", feature = "perspective")))]
 fn banded(
     scene: &Scene<'_>,
     fig: &Figure,
