@@ -12,7 +12,10 @@ fn main() {
     // The baked teapot is generated, not committed (`cargo xtask bake`).
     let stamp = std::path::Path::new("../baked/BAKED");
     println!("cargo:rerun-if-changed={}", stamp.display());
-    assert!(stamp.exists(), "boards/baked/ is not there: run `cargo xtask bake` first");
+    assert!(
+        stamp.exists(),
+        "boards/baked/ is not there: run `cargo xtask bake` first"
+    );
     println!("cargo:rustc-link-arg=--nmagic");
     println!("cargo:rustc-link-arg=-Tlink.x");
     println!("cargo:rustc-link-arg=-Tdefmt.x");

@@ -1,7 +1,7 @@
 //! The scene-file parser on arbitrary text; a scene that parses is then converted
 //! to the core's scene (over a small fixed mesh per object) and its vertex stage,
 //! clipper and rasterizer run into one-row strips at the top, middle and bottom of
-//! its frame. Asserted: no panic; errors name the file and a line inside it.
+//! its frame, with the depth cells its `depth_bits` asks for. Asserted: no panic; errors name the file and a line inside it.
 #![no_main]
 
 use fixshade::render::{Frame, XfVertex};
@@ -55,10 +55,19 @@ fuzz_target!(|data: &[u8]| {
     let w = d.width as usize;
     let mut color = vec![[0u8; 3]; w];
     let mut depth = vec![0xFFFFu16; w];
+    let mut depth32 = vec![u32::MAX; w];
     for y0 in [0, d.height / 2, d.height - 1] {
-        let mut strip =
-            Strip::<Rgb888>::new(&mut color, Some(&mut depth), d.width, d.height, y0, 1)
-                .expect("one-row strip");
-        let _ = with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip));
+        // The depth cells the scene asks for (`depth_bits`).
+        if d.depth_bits == 32 {
+            let mut strip =
+                Strip::<Rgb888, u32>::new(&mut color, Some(&mut depth32), d.width, d.height, y0, 1)
+                    .expect("one-row strip");
+            let _ = with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip));
+        } else {
+            let mut strip =
+                Strip::<Rgb888>::new(&mut color, Some(&mut depth), d.width, d.height, y0, 1)
+                    .expect("one-row strip");
+            let _ = with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip));
+        }
     }
 });

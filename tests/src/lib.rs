@@ -439,6 +439,7 @@ impl<P: PixelFormat> Guarded<P> {
 }
 
 impl<P: PixelFormat> Target<P> for Guarded<P> {
+    type Depth = u16;
     fn width(&self) -> u32 {
         self.width as u32
     }

@@ -53,7 +53,8 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
                  /// Every object's chunks, in the scene's object order.\n    pub objects: &'static [&'static [Chunk]],\n    \
                  /// Vertices in the largest chunk.\n    pub max_chunk_vertices: usize,\n    \
                  /// Vertices of the scene (the whole-mesh vertex cache).\n    pub vertices: usize,\n    \
-                 /// The scene, each object with the mesh of its first chunk.\n    pub scene: fn() -> Result<Scene<'static>, MeshError>,\n\
+                 /// The scene, each object with the mesh of its first chunk.\n    pub scene: fn() -> Result<Scene<'static>, MeshError>,\n    \
+                 /// True if the scene asks for 32-bit depth cells (`depth_bits = 32`).\n    pub depth32: bool,\n\
              }}\n\n",
             match chunk {
                 None => "whole meshes".to_string(),
@@ -76,10 +77,11 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
                 consts,
                 "/// `{}`.\npub const {}: SceneCase = SceneCase {{\n    name: \"{}\",\n    width: {m}::WIDTH,\n    height: {m}::HEIGHT,\n    \
                  background: {m}::BACKGROUND,\n    objects: &{m}::OBJECTS,\n    \
-                 max_chunk_vertices: {m}::MAX_CHUNK_VERTICES,\n    vertices: {vertices},\n    scene: {m}::scene,\n}};",
+                 max_chunk_vertices: {m}::MAX_CHUNK_VERTICES,\n    vertices: {vertices},\n    scene: {m}::scene,\n    depth32: {},\n}};",
                 case.name,
                 m.to_uppercase(),
-                case.name
+                case.name,
+                ls.desc.depth_test && ls.desc.depth_bits == 32
             );
             let _ = writeln!(table, "    {},", m.to_uppercase());
         }

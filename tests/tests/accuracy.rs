@@ -536,3 +536,38 @@ fn figures_match_the_reference() {
         }
     }
 }
+
+/// A closed model with culling off (its far half is drawn and must lose the depth
+/// test) seen with a near plane of 1e-4: with 32-bit depth cells the frame matches
+/// the f64 reference (NMSE ≤ 1e-5, no coverage mismatch); with 16-bit cells the far
+/// half shows through (NMSE above 1e-4), which is what the wider cells are for. The
+/// teapot (near 1, far 10, 32-bit depth) is checked by `figures_match_the_reference`.
+#[test]
+fn closed_model_at_a_tiny_near_plane_matches_the_reference_with_32_bit_depth() {
+    use fixshade_sim::scene::desc::Projection;
+    let mut ls = load_arg("sphere").unwrap();
+    ls.desc.cull_back = false;
+    match &mut ls.desc.camera.projection {
+        Projection::Perspective { near, .. } => *near = 1e-4,
+        p => panic!("the sphere scene has a perspective camera, found {p:?}"),
+    }
+    let reference = render::reference(&ls, false);
+    let mut nmse = [0.0; 2];
+    for (k, bits) in [16, 32].into_iter().enumerate() {
+        ls.desc.depth_bits = bits;
+        let r = render::render(&ls, None).unwrap();
+        let c = compare(&reference, &r.image).unwrap();
+        println!(
+            "depth {bits} bits: NMSE {:.3e}, max channel error {}",
+            c.nmse, c.max_channel_error
+        );
+        assert_eq!(c.coverage_mismatch, 0, "{bits}-bit depth: coverage differs");
+        nmse[k] = c.nmse;
+    }
+    assert!(nmse[1] <= 1e-5, "32-bit depth: NMSE {:e} > 1e-5", nmse[1]);
+    assert!(
+        nmse[0] > 1e-4,
+        "16-bit depth: NMSE {:e}, expected the far half to show",
+        nmse[0]
+    );
+}

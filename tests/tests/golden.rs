@@ -13,9 +13,14 @@ use fixshade_sim::scene::load::{load_arg, LoadedScene};
 use fixshade_tests::*;
 
 /// Scenes of the hard-case catalogue (`tests/catalogue/scenes/NAME.toml`) with
-/// golden images: OBJ `vn` normals (flat faces), recomputed normals (smooth) and
-/// MTL materials.
-const CATALOGUE_SCENES: [&str; 3] = ["obj-cube-vn", "obj-cube-no-vn", "obj-mtl"];
+/// golden images: OBJ `vn` normals (flat faces), recomputed normals (smooth), MTL
+/// materials, and a closed model in 32-bit depth cells at near = 1e-4.
+const CATALOGUE_SCENES: [&str; 4] = [
+    "obj-cube-vn",
+    "obj-cube-no-vn",
+    "obj-mtl",
+    "tiny-near-depth32",
+];
 
 /// Every scene with a golden image: the figures, then [`CATALOGUE_SCENES`].
 fn golden_scenes() -> Vec<(&'static str, LoadedScene)> {

@@ -94,7 +94,8 @@ const CORE_HZ: u32 = 16_000_000;
 /// QEMU's `-icount shift`, as in `.cargo/config.toml`.
 const ICOUNT_SHIFT: u32 = 10;
 
-/// Pixels in a strip: 2 rows of 320, 1 of 640 (1.25 KiB colour + 1.25 KiB depth).
+/// Pixels in a strip: 2 rows of 320, 1 of 640 (1.25 KiB colour + 1.25 KiB depth, or
+/// 2.5 KiB with the 32-bit depth cells the teapot asks for).
 const STRIP_PIXELS: usize = 640;
 /// Q12.4 units a span method may move a vertex by (two pixels: more than
 /// sierpinski's snapping to even pixels).
@@ -113,7 +114,7 @@ const EMPTY: XfVertex = XfVertex {
 };
 
 static mut COLOR: [u16; STRIP_PIXELS] = [0; STRIP_PIXELS];
-static mut DEPTH: [u16; STRIP_PIXELS] = [0; STRIP_PIXELS];
+static mut DEPTH: [fig::Depth; STRIP_PIXELS] = [0; STRIP_PIXELS];
 static mut CACHE: [XfVertex; fig::MAX_CHUNK_VERTICES] = [EMPTY; fig::MAX_CHUNK_VERTICES];
 
 /// Word written over the free RAM between the statics and the stack at start; the
@@ -235,8 +236,9 @@ fn run() -> Result<(), &'static str> {
     let _ = writeln!(Console, "LAYOUT {BOARD} {name} {rows} {}", fig::CHUNK_LIMIT);
     let bg = Rgb565Le::pack(fig::BACKGROUND[0], fig::BACKGROUND[1], fig::BACKGROUND[2]);
     let n = (w * rows) as usize;
-    let mut strip = Strip::<Rgb565Le>::new(&mut color[..n], Some(&mut depth[..n]), w, h, 0, rows)
-        .map_err(|_| "strip")?;
+    let mut strip =
+        Strip::<Rgb565Le, fig::Depth>::new(&mut color[..n], Some(&mut depth[..n]), w, h, 0, rows)
+            .map_err(|_| "strip")?;
     // The built-in scenes test depth and shade Gouraud: the draw call `Frame::draw`
     // makes for them, with only that code in flash.
     if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
@@ -251,24 +253,43 @@ fn run() -> Result<(), &'static str> {
         feature = "dividers4",
         feature = "perspective"
     )))]
-    let table = cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = cases::<Case, Rgb565Le, Strip<'_, Rgb565Le, fig::Depth>>();
     #[cfg(feature = "dividers")]
-    let table =
-        fixshade_boards_common::quick_divider_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::quick_divider_cases::<
+        Case,
+        Rgb565Le,
+        Strip<'_, Rgb565Le, fig::Depth>,
+    >();
     #[cfg(feature = "perspective")]
-    let table = fixshade_boards_common::perspective_cases::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::perspective_cases::<
+        Case,
+        Rgb565Le,
+        Strip<'_, Rgb565Le, fig::Depth>,
+    >();
     #[cfg(feature = "dividers1")]
-    let table =
-        fixshade_boards_common::more_divider_cases_1::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::more_divider_cases_1::<
+        Case,
+        Rgb565Le,
+        Strip<'_, Rgb565Le, fig::Depth>,
+    >();
     #[cfg(feature = "dividers2")]
-    let table =
-        fixshade_boards_common::more_divider_cases_2::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::more_divider_cases_2::<
+        Case,
+        Rgb565Le,
+        Strip<'_, Rgb565Le, fig::Depth>,
+    >();
     #[cfg(feature = "dividers3")]
-    let table =
-        fixshade_boards_common::more_divider_cases_3::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::more_divider_cases_3::<
+        Case,
+        Rgb565Le,
+        Strip<'_, Rgb565Le, fig::Depth>,
+    >();
     #[cfg(feature = "dividers4")]
-    let table =
-        fixshade_boards_common::more_divider_cases_4::<Case, Rgb565Le, Strip<'_, Rgb565Le>>();
+    let table = fixshade_boards_common::more_divider_cases_4::<
+        Case,
+        Rgb565Le,
+        Strip<'_, Rgb565Le, fig::Depth>,
+    >();
     for (case, draw) in table {
         let log = frame(
             case,
@@ -362,10 +383,10 @@ fn init_scene() -> Result<&'static mut Scene<'static>, &'static str> {
 #[allow(clippy::too_many_arguments)]
 fn frame<'s>(
     case: &str,
-    draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>,
+    draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le, fig::Depth>>,
     scene: &mut Scene<'static>,
     chunks: &[fig::Chunk],
-    strip: &mut Strip<'s, Rgb565Le>,
+    strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     bg: u16,
     cache: &mut [XfVertex],
     counter: &mut Counter,
@@ -453,8 +474,8 @@ fn prepare(
 fn prepare_and_draw<'s>(
     scene: &mut Scene<'static>,
     c: &fig::Chunk,
-    draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>,
-    strip: &mut Strip<'s, Rgb565Le>,
+    draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le, fig::Depth>>,
+    strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     cache: &mut [XfVertex],
     counter: &mut Counter,
 ) -> Result<(u64, u64, Stats), &'static str> {

@@ -30,7 +30,7 @@ use fixshade::geometry::MeshError;
 use fixshade::raster::setup::setup;
 use fixshade::render::{Frame, XfVertex, NEEDED, OUTSIDE};
 use fixshade::scene::Scene;
-use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
+use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 // The banded frames (`banded`), drawn by the figure image only.
 #[cfg(not(any(feature = "dividers", feature = "perspective")))]
 use fixshade::{
@@ -109,6 +109,13 @@ struct Figure {
     width: u32,
     height: u32,
     background: [u32; 3],
+    /// True if the baked scene asks for 32-bit depth cells (`Depth = u32`).
+    depth32: bool,
+}
+
+/// True if the baked scene's depth cell is `u32`.
+const fn depth32<D: DepthFormat>() -> bool {
+    D::BITS == 32
 }
 
 const FIGURES: [Figure; 7] = [
@@ -118,6 +125,7 @@ const FIGURES: [Figure; 7] = [
         width: baked::sphere::WIDTH,
         height: baked::sphere::HEIGHT,
         background: baked::sphere::BACKGROUND,
+        depth32: depth32::<baked::sphere::Depth>(),
     },
     Figure {
         name: "teapot",
@@ -125,6 +133,7 @@ const FIGURES: [Figure; 7] = [
         width: baked::teapot::WIDTH,
         height: baked::teapot::HEIGHT,
         background: baked::teapot::BACKGROUND,
+        depth32: depth32::<baked::teapot::Depth>(),
     },
     Figure {
         name: "robot",
@@ -132,6 +141,7 @@ const FIGURES: [Figure; 7] = [
         width: baked::robot::WIDTH,
         height: baked::robot::HEIGHT,
         background: baked::robot::BACKGROUND,
+        depth32: depth32::<baked::robot::Depth>(),
     },
     // The benchmark's fill-bound case: 32 x 20 segments at 640 x 480.
     Figure {
@@ -140,6 +150,7 @@ const FIGURES: [Figure; 7] = [
         width: 640,
         height: 480,
         background: baked::bench_sphere::BACKGROUND,
+        depth32: depth32::<baked::bench_sphere::Depth>(),
     },
     // The benchmark sphere at 320 x 240 with 32 x 20, 64 x 40 and 128 x 80 segments
     // (the last one triangle-bound).
@@ -149,6 +160,7 @@ const FIGURES: [Figure; 7] = [
         width: 320,
         height: 240,
         background: baked::bench_sphere::BACKGROUND,
+        depth32: depth32::<baked::bench_sphere::Depth>(),
     },
     Figure {
         name: "bench-sphere-64x40",
@@ -156,6 +168,7 @@ const FIGURES: [Figure; 7] = [
         width: 320,
         height: 240,
         background: baked::bench_sphere_64x40::BACKGROUND,
+        depth32: depth32::<baked::bench_sphere_64x40::Depth>(),
     },
     Figure {
         name: "bench-sphere-128x80",
@@ -163,6 +176,7 @@ const FIGURES: [Figure; 7] = [
         width: 320,
         height: 240,
         background: baked::bench_sphere_128x80::BACKGROUND,
+        depth32: depth32::<baked::bench_sphere_128x80::Depth>(),
     },
 ];
 
@@ -174,6 +188,7 @@ const MORE_FIGURES: [Figure; 1] = [Figure {
     width: ground_plane::WIDTH,
     height: ground_plane::HEIGHT,
     background: ground_plane::BACKGROUND,
+    depth32: depth32::<ground_plane::Depth>(),
 }];
 #[cfg(not(feature = "perspective"))]
 const MORE_FIGURES: [Figure; 0] = [];
@@ -184,6 +199,9 @@ const MAX_VERTICES: usize = baked::bench_sphere_128x80::MAX_CHUNK_VERTICES;
 
 static mut COLOR: [u16; MAX_PIXELS] = [0; MAX_PIXELS];
 static mut DEPTH: [u16; MAX_PIXELS] = [0; MAX_PIXELS];
+/// 32-bit depth cells for the scenes that ask for them (the teapot, 320 × 240).
+const MAX_PIXELS32: usize = 320 * 240;
+static mut DEPTH32: [u32; MAX_PIXELS32] = [0; MAX_PIXELS32];
 static mut CACHE: [XfVertex; MAX_VERTICES] = [XfVertex {
     s: fixshade::raster::ScreenVertex {
         x: 0,
@@ -235,10 +253,11 @@ fn run() -> Result<(), &'static str> {
     // SAFETY: the only references to the buffers are these, taken once before any
     // use.
     #[allow(unsafe_code)]
-    let (color, depth, cache) = unsafe {
+    let (color, depth, depth32, cache) = unsafe {
         (
             &mut *core::ptr::addr_of_mut!(COLOR),
             &mut *core::ptr::addr_of_mut!(DEPTH),
+            &mut *core::ptr::addr_of_mut!(DEPTH32),
             &mut *core::ptr::addr_of_mut!(CACHE),
         )
     };
@@ -250,60 +269,19 @@ fn run() -> Result<(), &'static str> {
         let (w, h) = (fig.width, fig.height);
         let n = (w * h) as usize;
         let bg = Rgb565Le::pack(fig.background[0], fig.background[1], fig.background[2]);
+        if fig.depth32 {
+            if n > depth32.len() {
+                return Err("32-bit depth for frames up to 320 x 240 only");
+            }
+            let mut fb =
+                Framebuffer::<Rgb565Le, u32>::new(&mut color[..n], Some(&mut depth32[..n]), w, h)
+                    .map_err(|_| "framebuffer")?;
+            draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
+            continue;
+        }
         let mut fb = Framebuffer::<Rgb565Le>::new(&mut color[..n], Some(&mut depth[..n]), w, h)
             .map_err(|_| "framebuffer")?;
-        #[cfg(not(any(feature = "dividers", feature = "perspective")))]
-        let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>();
-        // Perspective-correct Gouraud: the figures of the accuracy report and the
-        // ground plane (not the bench sphere).
-        #[cfg(feature = "perspective")]
-        let table = {
-            if fig.name == "bench-sphere" {
-                continue;
-            }
-            if scene.shading != ShadingMode::Gouraud {
-                return Err("the perspective cases draw Gouraud scenes only");
-            }
-            perspective_cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>()
-        };
-        // The divider cases draw what `Frame::draw` draws for the built-in scenes
-        // (Gouraud, depth test), with only that code in flash; the bench sphere is
-        // left out (the accuracy report has no row for it).
-        #[cfg(feature = "dividers")]
-        let table = {
-            if fig.name == "bench-sphere" {
-                continue;
-            }
-            if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
-                return Err("the divider cases draw Gouraud with the depth test only");
-            }
-            divider_cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Framebuffer<'_, Rgb565Le>>()
-        };
-        for (case, draw) in table {
-            if !only(fig.name, case) {
-                continue;
-            }
-            fb.clear(bg);
-            let (frame, prepare) =
-                counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
-            let frame = frame.map_err(|_| "prepare failed")?;
-            let (stats, draw) = counter.measure(|| draw(&frame, &mut fb));
-            let log = FrameLog {
-                layout: "full",
-                width: w,
-                height: h,
-                prepare,
-                draw,
-                stats: stats.map_err(|_| "draw failed")?,
-            };
-            let _ = log.write(&mut Console, BOARD, fig.name, case);
-            let mut name = [0u8; 64];
-            let mut f = semihosting::fs::File::create(file_name(&mut name, fig.name, case))
-                .map_err(|_| "cannot create the frame file")?;
-            let bytes: &[u8] = bytemuck_u16(&fb.color()[..n]);
-            f.write_all(bytes)
-                .map_err(|_| "cannot write the frame file")?;
-        }
+        draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
         // The bench spheres drawn in bands too: one binning, then 16-row and 2-row
         // bands (issue "bands for free"), the same bytes as the whole frame.
         #[cfg(not(any(feature = "dividers", feature = "perspective")))]
@@ -327,6 +305,73 @@ fn run() -> Result<(), &'static str> {
         {
             setup_cost(&scene, w, h, cache, &mut counter)?;
         }
+    }
+    Ok(())
+}
+
+/// Draws `fig` with every case of the image into `fb` (depth cells `D`, the baked
+/// scene's), writing each frame's file and `FRAME` line.
+fn draw_cases<D: DepthFormat>(
+    fig: &Figure,
+    scene: &Scene<'_>,
+    bg: u16,
+    fb: &mut Framebuffer<'_, Rgb565Le, D>,
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    let (w, h) = (fig.width, fig.height);
+    let n = (w * h) as usize;
+    #[cfg(not(any(feature = "dividers", feature = "perspective")))]
+    let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>();
+    // Perspective-correct Gouraud: the figures of the accuracy report and the
+    // ground plane (not the bench sphere).
+    #[cfg(feature = "perspective")]
+    let table = {
+        if fig.name == "bench-sphere" {
+            return Ok(());
+        }
+        if scene.shading != ShadingMode::Gouraud {
+            return Err("the perspective cases draw Gouraud scenes only");
+        }
+        perspective_cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>()
+    };
+    // The divider cases draw what `Frame::draw` draws for the built-in scenes
+    // (Gouraud, depth test), with only that code in flash; the bench sphere is
+    // left out (the accuracy report has no row for it).
+    #[cfg(feature = "dividers")]
+    let table = {
+        if fig.name == "bench-sphere" {
+            return Ok(());
+        }
+        if !scene.depth_test || scene.shading != ShadingMode::Gouraud {
+            return Err("the divider cases draw Gouraud with the depth test only");
+        }
+        divider_cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>()
+    };
+    for (case, draw) in table {
+        if !only(fig.name, case) {
+            continue;
+        }
+        fb.clear(bg);
+        let (frame, prepare) =
+            counter.measure(|| Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache[..]));
+        let frame = frame.map_err(|_| "prepare failed")?;
+        let (stats, draw) = counter.measure(|| draw(&frame, fb));
+        let log = FrameLog {
+            layout: "full",
+            width: w,
+            height: h,
+            prepare,
+            draw,
+            stats: stats.map_err(|_| "draw failed")?,
+        };
+        let _ = log.write(&mut Console, BOARD, fig.name, case);
+        let mut name = [0u8; 64];
+        let mut f = semihosting::fs::File::create(file_name(&mut name, fig.name, case))
+            .map_err(|_| "cannot create the frame file")?;
+        let bytes: &[u8] = bytemuck_u16(&fb.color()[..n]);
+        f.write_all(bytes)
+            .map_err(|_| "cannot write the frame file")?;
     }
     Ok(())
 }

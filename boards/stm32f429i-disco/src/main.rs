@@ -73,7 +73,7 @@ static mut RECORD_MEM: [Record; RECORDS] = [Record::EMPTY; RECORDS];
 static mut INDEX_MEM: [u16; INDEX] = [0; INDEX];
 static mut STARTS_MEM: [u32; STARTS] = [0; STARTS];
 static mut BAND_MEM: [[u16; STRIP]; 2] = [[0; STRIP]; 2];
-static mut DEPTH_MEM: [u16; STRIP] = [0; STRIP];
+static mut DEPTH_MEM: [teapot::Depth; STRIP] = [0; STRIP];
 
 /// Memory Write: the frame's bands follow as data.
 static RAMWR: [u8; 1] = [0x2C];
@@ -249,7 +249,7 @@ fn main() -> ! {
                 .expect("one buffer is free: the other is on the wire");
             let rows = binned.rows(band);
             let len = (W * rows.len() as u32) as usize;
-            let mut strip = Strip::<Rgb565Be>::new(
+            let mut strip = Strip::<Rgb565Be, teapot::Depth>::new(
                 &mut px[..],
                 Some(&mut depth[..]),
                 W,

@@ -17,8 +17,8 @@ use cortex_m_rt::{entry, exception};
 use fixshade::divide::Exact;
 use fixshade::raster::perspective::Perspective;
 use fixshade::render::{Frame, XfVertex};
-use fixshade::scene::{Projection, ShadingMode};
-use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
+use fixshade::scene::{Projection, Scene, ShadingMode};
+use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
 use fixshade_boards_common::{cases, Counter, SceneSettings};
 use semihosting::io::Write as _;
@@ -52,6 +52,8 @@ const SHADINGS: [ShadingMode; 6] = [
 
 static mut COLOR: [u16; PIXELS] = [0; PIXELS];
 static mut DEPTH: [u16; PIXELS] = [0; PIXELS];
+/// 32-bit depth cells, for the cases with `depth_bits = 32`.
+static mut DEPTH32: [u32; PIXELS] = [0; PIXELS];
 static mut CACHE: [XfVertex; VERTICES] = [XfVertex {
     s: fixshade::raster::ScreenVertex {
         x: 0,
@@ -72,79 +74,66 @@ fn run() -> Result<(), &'static str> {
     let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
     // SAFETY: the only references to the buffers, taken once before any use.
     #[allow(unsafe_code)]
-    let (color, depth, cache) = unsafe {
+    let (color, depth, depth32, cache) = unsafe {
         (
             &mut *core::ptr::addr_of_mut!(COLOR),
             &mut *core::ptr::addr_of_mut!(DEPTH),
+            &mut *core::ptr::addr_of_mut!(DEPTH32),
             &mut *core::ptr::addr_of_mut!(CACHE),
         )
     };
     for case in &baked::CASES {
-        let (w, h) = (case.width, case.height);
-        let n = (w * h) as usize;
+        let n = (case.width * case.height) as usize;
         if n > PIXELS || case.vertices > VERTICES {
             return Err("a case larger than the image's buffers");
         }
         let mut scene = (case.scene)().map_err(|_| "baked mesh rejected")?;
-        let bg = Rgb565Le::pack(case.background[0], case.background[1], case.background[2]);
-        let mut fb = Framebuffer::<Rgb565Le>::new(
-            &mut color[..n],
-            if scene.depth_test {
-                Some(&mut depth[..n])
-            } else {
-                None
-            },
-            w,
-            h,
-        )
-        .map_err(|_| "framebuffer")?;
-        let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>();
-        for shading in SHADINGS {
-            scene.shading = shading;
-            for (span, draw) in &table {
-                if scenes::ignores_span(shading) && *span != "gradient" {
-                    continue;
-                }
-                fb.clear(bg);
-                let (frame, prepare) =
-                    counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
-                let frame = frame.map_err(|_| "prepare failed")?;
-                let (stats, cost) = counter.measure(|| draw(&frame, &mut fb));
-                let mut log = SceneLog {
-                    width: w,
-                    height: h,
-                    prepare,
-                    draw: cost,
-                    ..SceneLog::default()
-                };
-                log.add(stats)?;
-                let mut name = [0u8; 96];
-                let mut f = semihosting::fs::File::create(file_name(
-                    &mut name,
-                    case.name,
-                    shading_name(shading),
-                    span,
-                ))
-                .map_err(|_| "cannot create the frame file")?;
-                f.write_all(as_bytes(fb.color()))
-                    .map_err(|_| "cannot write the frame file")?;
-                log.write(BOARD, case.name, shading_name(shading), span);
+        if case.depth32 {
+            draw_case::<u32>(case, &mut scene, color, depth32, cache, &mut counter)?;
+        } else {
+            draw_case::<u16>(case, &mut scene, color, depth, cache, &mut counter)?;
+        }
+    }
+    Ok(())
+}
+
+/// Draws `case` (its scene in `scene`) with every span method and shading mode into
+/// a framebuffer of `color` and `depth` (cells `D`: the case's `depth_bits`), and its
+/// perspective-correct frames; writes each frame's file and `SCENE` line.
+fn draw_case<D: DepthFormat>(
+    case: &baked::SceneCase,
+    scene: &mut Scene<'_>,
+    color: &mut [u16],
+    depth: &mut [D],
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    let (w, h) = (case.width, case.height);
+    let n = (w * h) as usize;
+    let bg = Rgb565Le::pack(case.background[0], case.background[1], case.background[2]);
+    let mut fb = Framebuffer::<Rgb565Le, D>::new(
+        &mut color[..n],
+        if scene.depth_test {
+            Some(&mut depth[..n])
+        } else {
+            None
+        },
+        w,
+        h,
+    )
+    .map_err(|_| "framebuffer")?;
+    let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>();
+    for shading in SHADINGS {
+        scene.shading = shading;
+        for (span, draw) in &table {
+            if scenes::ignores_span(shading) && *span != "gradient" {
+                continue;
             }
-        }
-        if !matches!(scene.camera.projection, Projection::Perspective { .. }) {
-            continue;
-        }
-        scene.shading = ShadingMode::Gouraud;
-        for (span, mode) in [
-            ("perspective-1", Perspective::PER_PIXEL),
-            ("perspective-16", Perspective::SUB16),
-        ] {
             fb.clear(bg);
             let (frame, prepare) =
                 counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
             let frame = frame.map_err(|_| "prepare failed")?;
-            let (stats, cost) =
-                counter.measure(|| frame.draw_perspective::<Exact, _>(&mut fb, mode));
+            let (stats, cost) = counter.measure(|| draw(&frame, &mut fb));
             let mut log = SceneLog {
                 width: w,
                 height: h,
@@ -154,13 +143,45 @@ fn run() -> Result<(), &'static str> {
             };
             log.add(stats)?;
             let mut name = [0u8; 96];
-            let mut f =
-                semihosting::fs::File::create(file_name(&mut name, case.name, "gouraud", span))
-                    .map_err(|_| "cannot create the frame file")?;
+            let mut f = semihosting::fs::File::create(file_name(
+                &mut name,
+                case.name,
+                shading_name(shading),
+                span,
+            ))
+            .map_err(|_| "cannot create the frame file")?;
             f.write_all(as_bytes(fb.color()))
                 .map_err(|_| "cannot write the frame file")?;
-            log.write(BOARD, case.name, "gouraud", span);
+            log.write(BOARD, case.name, shading_name(shading), span);
         }
+    }
+    if !matches!(scene.camera.projection, Projection::Perspective { .. }) {
+        return Ok(());
+    }
+    scene.shading = ShadingMode::Gouraud;
+    for (span, mode) in [
+        ("perspective-1", Perspective::PER_PIXEL),
+        ("perspective-16", Perspective::SUB16),
+    ] {
+        fb.clear(bg);
+        let (frame, prepare) =
+            counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
+        let frame = frame.map_err(|_| "prepare failed")?;
+        let (stats, cost) = counter.measure(|| frame.draw_perspective::<Exact, _>(&mut fb, mode));
+        let mut log = SceneLog {
+            width: w,
+            height: h,
+            prepare,
+            draw: cost,
+            ..SceneLog::default()
+        };
+        log.add(stats)?;
+        let mut name = [0u8; 96];
+        let mut f = semihosting::fs::File::create(file_name(&mut name, case.name, "gouraud", span))
+            .map_err(|_| "cannot create the frame file")?;
+        f.write_all(as_bytes(fb.color()))
+            .map_err(|_| "cannot write the frame file")?;
+        log.write(BOARD, case.name, "gouraud", span);
     }
     Ok(())
 }

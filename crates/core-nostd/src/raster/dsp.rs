@@ -51,8 +51,8 @@
 //! flags sit in one block, so no flag state is expected across blocks.
 
 use super::setup::ATTRS;
-use super::span::{depth_of, DepthMode};
-use crate::target::PixelFormat;
+use super::span::DepthMode;
+use crate::target::{DepthFormat, PixelFormat};
 
 /// True for the formats the paired loops draw: three channels of 5, 6 and 5 bits
 /// (the packed lanes of 21 + 22 + 21 bits, red at bit 43, green at 21, blue at 0),
@@ -298,12 +298,8 @@ fn pixel<P: PixelFormat>(w: u32) -> P::Raw {
 /// One pixel: depth test, then the pixel of the packed register `c`.
 #[inline(always)]
 fn single<P: PixelFormat, Z: DepthMode>(color: &mut P::Raw, depth: &mut [u16], c: u64, z: i32) {
-    if Z::TEST {
-        let zz = depth_of(z);
-        if zz >= depth[0] {
-            return;
-        }
-        depth[0] = zz;
+    if Z::TEST && !depth[0].write_if_nearer(z) {
+        return;
     }
     P::store(color, pixel::<P>(pixel_pair(c, c)));
 }

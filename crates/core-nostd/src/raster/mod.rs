@@ -350,7 +350,7 @@ fn walk_rows<P, T, Z>(
     [t, m, b]: [(i32, i32); 3],
     mid_left: bool,
     (y_top, y_mid, y_bot): (i32, i32, i32),
-    mut row: impl FnMut(Option<(&mut [P::Raw], &mut [u16], i32)>),
+    mut row: impl FnMut(Option<(&mut [P::Raw], &mut [T::Depth], i32)>),
 ) -> u32
 where
     P: PixelFormat,
@@ -380,7 +380,11 @@ where
             if x0 < x1 {
                 let (crow, drow) = target.row(y);
                 let (a, e) = (x0 as usize, x1 as usize);
-                let depth: &mut [u16] = if Z::TEST { &mut drow[a..e] } else { &mut [] };
+                let depth = if Z::TEST {
+                    &mut drow[a..e]
+                } else {
+                    &mut drow[..0]
+                };
                 row(Some((&mut crow[a..e], depth, x0)));
                 covered += (x1 - x0) as u32;
             } else {
@@ -448,7 +452,7 @@ where
     P: PixelFormat,
     T: Target<P>,
     Z: DepthMode,
-    F: FnMut(&mut [P::Raw], &mut [u16], &Span),
+    F: FnMut(&mut [P::Raw], &mut [T::Depth], &Span),
 {
     let [t, m, b] = s.v;
     // The long edge spans every row: one stepper serves both halves (the first walk
@@ -498,7 +502,7 @@ where
     P: PixelFormat,
     T: Target<P>,
     Z: DepthMode,
-    F: FnMut(&mut [P::Raw], &mut [u16], &Span),
+    F: FnMut(&mut [P::Raw], &mut [T::Depth], &Span),
 {
     if ys >= ye {
         return 0;
@@ -555,7 +559,11 @@ where
             };
             let (crow, drow) = target.row(y);
             let (a, b) = (x0 as usize, x1 as usize);
-            let depth: &mut [u16] = if Z::TEST { &mut drow[a..b] } else { &mut [] };
+            let depth = if Z::TEST {
+                &mut drow[a..b]
+            } else {
+                &mut drow[..0]
+            };
             fill(&mut crow[a..b], depth, &span);
             covered += (x1 - x0) as u32;
         }

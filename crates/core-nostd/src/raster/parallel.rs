@@ -19,7 +19,7 @@ use super::setup::{Setup, ATTRS};
 use super::span::{pack_pixel, write_run, DepthMode, Span, SpanMethod};
 use crate::divide::Exact;
 use crate::shade::Shading;
-use crate::target::PixelFormat;
+use crate::target::{DepthFormat, PixelFormat};
 
 #[inline(always)]
 fn add(a: &[i32; ATTRS], b: &[i32; ATTRS]) -> [i32; ATTRS] {
@@ -61,13 +61,28 @@ fn times(g: &[i32; ATTRS], k: usize) -> [i32; ATTRS] {
 #[inline(always)]
 fn put<P: PixelFormat, Z: DepthMode>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [impl DepthFormat],
     i: usize,
     v: &[i32; ATTRS],
 ) {
-    let mut unused = 0;
-    let d = if Z::TEST { &mut depth[i] } else { &mut unused };
-    pack_pixel::<P, Z>(&mut color[i], d, v);
+    if Z::TEST {
+        pack_pixel::<P, Z>(&mut color[i], &mut depth[i], v);
+    } else {
+        pack_pixel::<P, Z>(&mut color[i], &mut 0u16, v);
+    }
+}
+
+/// The depth row for the ARMv7E-M paired loops, which test two 16-bit depths per
+/// instruction: the row itself with `u16` cells, an empty one without a depth test,
+/// `None` with `u32` cells.
+#[cfg(fixshade_dsp)]
+#[inline(always)]
+fn u16_row<Z: DepthMode>(depth: &mut [impl DepthFormat]) -> Option<&mut [u16]> {
+    if Z::TEST {
+        DepthFormat::as_u16(depth)
+    } else {
+        Some(&mut [])
+    }
 }
 
 /// `K` accumulators, the j-th starting at `v + j·ΔI`, each stepping by `K·ΔI`
@@ -149,7 +164,7 @@ fn lanes<const K: usize>(s: &Setup) -> Lanes<K> {
 #[inline(always)]
 fn fill_kway<const K: usize, P: PixelFormat, Z: DepthMode, Sh: Shading>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [impl DepthFormat],
     span: &Span,
     tri: &Setup,
     l: &Lanes<K>,
@@ -172,7 +187,11 @@ fn fill_kway<const K: usize, P: PixelFormat, Z: DepthMode, Sh: Shading>(
             }
             let z = core::array::from_fn(|j| span.v[3].wrapping_add(l.start[j][3]));
             let dc = c[K - 1].wrapping_add(d).wrapping_sub(p);
-            return super::dsp::kway::<K, P, Z>(color, depth, c, z, dc, l.step[3]);
+            // The paired loops test two 16-bit depths at once: with 32-bit cells the
+            // portable loop below draws the span.
+            if let Some(d16) = u16_row::<Z>(depth) {
+                return super::dsp::kway::<K, P, Z>(color, d16, c, z, dc, l.step[3]);
+            }
         }
     }
     let mut acc: [[i32; ATTRS]; K] = core::array::from_fn(|j| add(&span.v, &l.start[j]));
@@ -205,7 +224,7 @@ impl<const K: usize> SpanMethod for KWay<K> {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         data: &Lanes<K>,
@@ -225,7 +244,7 @@ impl SpanMethod for EvenOdd {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         data: &Lanes<2>,
@@ -267,7 +286,7 @@ impl SpanMethod for Counter {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         _: &(),
@@ -384,9 +403,9 @@ impl<const P: usize> Segment<P> {
 /// One segment: lane `k` gets `base + off[·][k]`. Branch-free when the format's
 /// store is a plain store.
 #[inline(always)]
-fn segment_block<P: PixelFormat, Z: DepthMode>(
+fn segment_block<P: PixelFormat, Z: DepthMode, C: DepthFormat>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [C],
     base: &[i32; ATTRS],
     off: &[[i32; MAX_SEGMENT]; ATTRS],
 ) {
@@ -398,7 +417,7 @@ fn segment_block<P: PixelFormat, Z: DepthMode>(
             let r = base[0].wrapping_add(or[k]);
             let g = base[1].wrapping_add(og[k]);
             let b = base[2].wrapping_add(ob[k]);
-            let z = ((base[3].wrapping_add(oz[k]) as u32) >> 16) as u16;
+            let z = C::from_depth(base[3].wrapping_add(oz[k]));
             let px = P::pack((r >> 16) as u32, (g >> 16) as u32, (b >> 16) as u32);
             let keep = z < depth[k];
             if P::PLAIN_STORE {
@@ -469,7 +488,7 @@ impl<const P: usize> SpanMethod for Segment<P> {
     #[inline(always)]
     fn fill<P2: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P2::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         data: &SegmentLanes,
@@ -485,23 +504,29 @@ impl<const P: usize> SpanMethod for Segment<P> {
         #[cfg(fixshade_dsp)]
         if super::dsp::is_565::<P2>() && n >= super::dsp::MIN_SPAN {
             if let Some(c) = super::dsp::span_start_565(&span.v, &tri.gx, n) {
-                return super::dsp::segment::<P2, Z>(
-                    color,
-                    depth,
-                    &data.pairs[..w / 2],
-                    c,
-                    span.v[3],
-                    data.packed,
-                    tri.gx[3],
-                );
+                if let Some(d16) = u16_row::<Z>(depth) {
+                    return super::dsp::segment::<P2, Z>(
+                        color,
+                        d16,
+                        &data.pairs[..w / 2],
+                        c,
+                        span.v[3],
+                        data.packed,
+                        tri.gx[3],
+                    );
+                }
             }
         }
         let mut base = span.v;
         let mut i = 0;
         while i < n {
             let end = (i + w).min(n);
-            let d: &mut [u16] = if Z::TEST { &mut depth[i..end] } else { &mut [] };
-            segment_block::<P2, Z>(&mut color[i..end], d, &base, &data.off);
+            let d = if Z::TEST {
+                &mut depth[i..end]
+            } else {
+                &mut depth[..0]
+            };
+            segment_block::<P2, Z, _>(&mut color[i..end], d, &base, &data.off);
             base = add(&base, &data.step);
             i = end;
         }

@@ -286,8 +286,8 @@ fn walk<P, T, Z, A, D>(
     wt: &Weights,
     mode: Perspective,
     sample: impl Fn(&[i64; 3]) -> A,
-    mut pixel: impl FnMut(&mut P::Raw, Option<&mut u16>, &[i64; 3], i32),
-    mut run: impl FnMut(&mut [P::Raw], &mut [u16], A, A, i32),
+    mut pixel: impl FnMut(&mut P::Raw, Option<&mut T::Depth>, &[i64; 3], i32),
+    mut run: impl FnMut(&mut [P::Raw], &mut [T::Depth], A, A, i32),
 ) -> u32
 where
     P: PixelFormat,
@@ -322,10 +322,10 @@ where
             return;
         }
         let mut piece = |i: usize, len: usize, start: A, step: A, z: i32| {
-            let d: &mut [u16] = if Z::TEST {
+            let d = if Z::TEST {
                 &mut depth[i..i + len]
             } else {
-                &mut []
+                &mut depth[..0]
             };
             run(&mut color[i..i + len], d, start, step, z);
         };
@@ -405,8 +405,11 @@ where
         |e| p.colour::<D>(e),
         |c, d, e, z| {
             let col = p.colour::<D>(e);
-            let mut none = 0u16;
-            pack_pixel::<P, Z>(c, d.unwrap_or(&mut none), &[col[0], col[1], col[2], z]);
+            let v = [col[0], col[1], col[2], z];
+            match d {
+                Some(d) => pack_pixel::<P, Z>(c, d, &v),
+                None => pack_pixel::<P, Z>(c, &mut 0u16, &v),
+            }
         },
         |color, depth, c, inc, z| {
             write_run::<P, Z, Sh>(

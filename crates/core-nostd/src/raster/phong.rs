@@ -44,12 +44,12 @@
 
 use super::edge::first_row;
 use super::setup::{setup_with_det_div, Det, Setup, ROUND_BIAS};
-use super::span::{depth_of, DepthMode};
+use super::span::DepthMode;
 use super::{row_range, scan, ScreenVertex};
 use crate::divide::{Divide, Exact};
 use crate::math::{normalize_to_q30, ONE_Q30};
 use crate::sampler::{fill_row, PixelFn, Threshold};
-use crate::target::{to_channels, PixelFormat, Target};
+use crate::target::{to_channels, DepthFormat, PixelFormat, Target};
 
 /// Lights one pixel: eye-space position (Q16.16) and unit normal (Q2.30) to a colour
 /// (Q16.16 per channel, 0..=1). [`crate::light::LightingSetup`] implements it.
@@ -263,16 +263,9 @@ fn lit_channels<P: PixelFormat, L: PixelLight>(a: &[i64; PA], light: &L) -> [u32
 
 /// Depth test for one pixel (strictly nearer wins); writes the depth when it passes.
 #[inline(always)]
-pub(super) fn depth_pass<Z: DepthMode>(d: Option<&mut u16>, z: i32) -> bool {
+pub(super) fn depth_pass<Z: DepthMode>(d: Option<&mut impl DepthFormat>, z: i32) -> bool {
     match d {
-        Some(d) if Z::TEST => {
-            let zz = depth_of(z);
-            if zz >= *d {
-                return false;
-            }
-            *d = zz;
-            true
-        }
+        Some(d) if Z::TEST => d.write_if_nearer(z),
         _ => true,
     }
 }
@@ -471,7 +464,7 @@ where
 #[inline(always)]
 fn fill<P: PixelFormat, Z: DepthMode, F: PhongFill, L: PixelLight>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [impl DepthFormat],
     z: i32,
     s: &Setup,
     a: [i64; PA],
@@ -544,7 +537,7 @@ impl<P: PixelFormat, L: PixelLight> PixelFn for PieceLight<'_, P, L> {
 #[inline(always)]
 fn fill_sampled<P: PixelFormat, Z: DepthMode, L: PixelLight>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [impl DepthFormat],
     z: i32,
     s: &Setup,
     a: [i64; PA],

@@ -62,7 +62,7 @@ use super::setup::{setup_div, Setup};
 use super::span::DepthMode;
 use super::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
-use crate::target::{PixelFormat, Target};
+use crate::target::{DepthFormat, PixelFormat, Target};
 
 /// Fraction bits of the surface values, in channel units.
 pub const FRAC: u32 = 40;
@@ -367,22 +367,19 @@ fn walk_rows(s: &Setup, rows: Range<i32>, width: i32, mut f: impl FnMut(i32, i32
     }
 }
 
-/// The u16 depth of a Q16.16 lattice depth value.
-#[inline(always)]
-fn depth_of(z: i32) -> u16 {
-    ((z as u32) >> 16) as u16
-}
-
 /// Stores `p` at `c` if the lattice depth `z` passes the test.
 #[inline(always)]
-fn put<P: PixelFormat, Z: DepthMode>(c: &mut P::Raw, d: Option<&mut u16>, z: i32, p: P::Raw) {
+fn put<P: PixelFormat, Z: DepthMode>(
+    c: &mut P::Raw,
+    d: Option<&mut impl DepthFormat>,
+    z: i32,
+    p: P::Raw,
+) {
     if Z::TEST {
         if let Some(d) = d {
-            let zz = depth_of(z);
-            if zz >= *d {
+            if !d.write_if_nearer(z) {
                 return;
             }
-            *d = zz;
         }
     }
     P::store(c, p);

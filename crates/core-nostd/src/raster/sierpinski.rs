@@ -116,7 +116,7 @@ use super::span::{write_run, DepthMode, Gradient, NoDepth, Span, SpanMethod};
 use super::{draw_setup, ScreenVertex, GUARD};
 use crate::divide::Exact;
 use crate::shade::Shading;
-use crate::target::{PixelFormat, Target};
+use crate::target::{DepthFormat, PixelFormat, Target};
 
 /// A point in Q12.4.
 type Pt = (i32, i32);
@@ -310,7 +310,7 @@ impl SpanMethod for SierpinskiExact {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         _: &(),
@@ -338,7 +338,7 @@ impl SpanMethod for Sierpinski {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         _: &(),
@@ -450,7 +450,11 @@ where
     let v = core::array::from_fn(|i| v[i].wrapping_add(skip.wrapping_mul(g[i])));
     let (crow, drow) = target.row(y);
     let (a, b) = (x0 as usize, x1 as usize);
-    let depth: &mut [u16] = if Z::TEST { &mut drow[a..b] } else { &mut [] };
+    let depth = if Z::TEST {
+        &mut drow[a..b]
+    } else {
+        &mut drow[..0]
+    };
     write_run::<P, Z, Sh>(&mut crow[a..b], depth, v, g);
     (x1 - x0) as u32
 }

@@ -6,7 +6,8 @@
 //! crossings with the attribute values interpolated along the edges.
 //!
 //! A [`SpanMethod`] turns that into pixel values; [`write_run`] is the pixel stage
-//! shared by every method: depth test against the u16 buffer (strictly nearer wins),
+//! shared by every method: depth test against the depth row (`u16` or `u32` cells,
+//! [`DepthFormat`]; strictly nearer wins),
 //! pack to the pixel format, store.
 
 use super::edge::EdgeStepper;
@@ -14,7 +15,7 @@ use super::setup::{Setup, ATTRS};
 use super::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
 use crate::shade::Shading;
-use crate::target::{PixelFormat, Target};
+use crate::target::{DepthFormat, PixelFormat, Target};
 use core::marker::PhantomData;
 
 /// Edge crossings of a row, for methods that interpolate between the edges.
@@ -89,7 +90,7 @@ pub struct Span {
 /// assert!(DepthTest::TEST && !NoDepth::TEST);
 /// ```
 pub trait DepthMode {
-    /// True to test and write the u16 depth buffer.
+    /// True to test and write the target's depth buffer.
     const TEST: bool;
 }
 
@@ -146,7 +147,7 @@ impl DepthMode for NoDepth {
 ///     fn prepare(_: &Setup) {}
 ///     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
 ///         color: &mut [P::Raw],
-///         depth: &mut [u16],
+///         depth: &mut [impl DepthFormat],
 ///         span: &Span,
 ///         _tri: &Setup,
 ///         _: &(),
@@ -201,7 +202,7 @@ pub trait SpanMethod {
     /// empty with [`NoDepth`]).
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         data: &Self::Tri,
@@ -246,12 +247,6 @@ fn pack<P: PixelFormat>(r: i32, g: i32, b: i32) -> P::Raw {
     P::pack((r >> 16) as u32, (g >> 16) as u32, (b >> 16) as u32)
 }
 
-/// The u16 depth of a Q16.16 depth value (bias included).
-#[inline(always)]
-pub(crate) fn depth_of(z: i32) -> u16 {
-    ((z as u32) >> 16) as u16
-}
-
 /// The pixel stage for one pixel: depth test (strictly nearer wins), pack, store.
 /// `d` is ignored without a depth test.
 ///
@@ -262,15 +257,19 @@ pub(crate) fn depth_of(z: i32) -> u16 {
 /// // Channels in Q.16 5-6-5 units (rounded), depth Q16.16.
 /// pack_pixel::<Rgb565Le, DepthTest>(&mut c, &mut d, &[31 << 16, 32 << 16, 0, 100 << 16]);
 /// assert_eq!((Rgb565Le::unpack(c), d), ([31, 32, 0], 100));
+/// // A 32-bit depth cell keeps the fraction too.
+/// let mut d32 = u32::MAX;
+/// pack_pixel::<Rgb565Le, DepthTest>(&mut c, &mut d32, &[0, 0, 0, (99 << 16) + 7]);
+/// assert_eq!(d32, (99 << 16) + 7);
 /// ```
 #[inline(always)]
-pub fn pack_pixel<P: PixelFormat, Z: DepthMode>(c: &mut P::Raw, d: &mut u16, v: &[i32; ATTRS]) {
-    if Z::TEST {
-        let zz = depth_of(v[3]);
-        if zz >= *d {
-            return;
-        }
-        *d = zz;
+pub fn pack_pixel<P: PixelFormat, Z: DepthMode>(
+    c: &mut P::Raw,
+    d: &mut impl DepthFormat,
+    v: &[i32; ATTRS],
+) {
+    if Z::TEST && !d.write_if_nearer(v[3]) {
+        return;
     }
     P::store(c, pack::<P>(v[0], v[1], v[2]));
 }
@@ -424,7 +423,7 @@ pub(crate) fn packed_channels<P: PixelFormat>(v: &[i32; ATTRS]) -> Option<u64> {
 #[inline(always)]
 pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [impl DepthFormat],
     mut c: u64,
     dc: u64,
     mut z: i32,
@@ -432,9 +431,7 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
 ) {
     if Z::TEST {
         for (px, d) in color.iter_mut().zip(depth.iter_mut()) {
-            let zz = depth_of(z);
-            if zz < *d {
-                *d = zz;
+            if d.write_if_nearer(z) {
                 P::store(px, Packed::<P>::pack(c));
             }
             c = c.wrapping_add(dc);
@@ -464,7 +461,7 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
 #[inline(always)]
 pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
     color: &mut [P::Raw],
-    depth: &mut [u16],
+    depth: &mut [impl DepthFormat],
     v: [i32; ATTRS],
     g: &[i32; ATTRS],
 ) {
@@ -477,9 +474,7 @@ pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         }
         if Z::TEST {
             for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
-                let zz = depth_of(z);
-                if zz < *d {
-                    *d = zz;
+                if d.write_if_nearer(z) {
                     P::store(c, pack::<P>(r, gg, b));
                 }
                 r = r.wrapping_add(dr);
@@ -503,9 +498,7 @@ pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         let p = pack::<P>(r, gg, b);
         if Z::TEST {
             for (c, d) in color.iter_mut().zip(depth.iter_mut()) {
-                let zz = depth_of(z);
-                if zz < *d {
-                    *d = zz;
+                if d.write_if_nearer(z) {
                     P::store(c, p);
                 }
                 z = z.wrapping_add(dz);
@@ -557,7 +550,7 @@ impl SpanMethod for Gradient {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         _: &(),
@@ -660,7 +653,7 @@ impl<D: Divide> SpanMethod for Classic<D> {
     fn prepare(_: &Setup) {}
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         _tri: &Setup,
         _: &(),
@@ -750,7 +743,7 @@ impl<S: SpanMethod, D: Divide> SpanMethod for WithDivide<S, D> {
     #[inline(always)]
     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         span: &Span,
         tri: &Setup,
         data: &S::Tri,
@@ -790,7 +783,7 @@ mod tests {
     /// plus `i` wrapping adds of `g`, stored where the depth is strictly nearer.
     fn reference<P: PixelFormat>(
         color: &mut [P::Raw],
-        depth: &mut [u16],
+        depth: &mut [impl DepthFormat],
         v: [i32; ATTRS],
         g: &[i32; ATTRS],
     ) {

@@ -809,3 +809,60 @@ fn triangles_partly_outside_are_clipped() {
         &["......"; 5],
     );
 }
+
+/// Two triangles over the same pixels whose depths differ by less than one step of
+/// a 16-bit buffer: with `u16` cells the second one drawn ties and loses every
+/// pixel; with `u32` cells the nearer second one wins every pixel, for every span
+/// method.
+#[test]
+fn u32_depth_resolves_what_u16_ties() {
+    use super::span::DepthTest;
+    use crate::shade::Gouraud;
+    use crate::target::{DepthFormat, Gray8};
+
+    fn frame<S: SpanMethod, D: DepthFormat + Default + Clone>() -> Vec<u8> {
+        let mut color = vec![0u8; 16 * 16];
+        let mut depth = vec![D::FAR; 16 * 16];
+        let mut fb = Framebuffer::<Gray8, D>::new(&mut color, Some(&mut depth), 16, 16).unwrap();
+        let v = |x: i32, y: i32, g: i32, z: u32| ScreenVertex {
+            x: x * 16,
+            y: y * 16,
+            z,
+            c: [g << 16, 0, 0],
+        };
+        // Far: depth 1000.25; near: 1000 + 1/16. With the setup's rounding bias of
+        // one half both are 1000 in a u16 cell.
+        let (far, near) = ((1000 << 16) | 0x4000, (1000 << 16) | 0x1000);
+        let tri = |g, z| [v(0, 0, g, z), v(0, 16, g, z), v(16, 0, g, z)];
+        draw_triangle::<Gray8, _, S, DepthTest, Gouraud>(&mut fb, tri(100, far));
+        draw_triangle::<Gray8, _, S, DepthTest, Gouraud>(&mut fb, tri(200, near));
+        color
+    }
+    fn check<S: SpanMethod>() {
+        let (c16, c32) = (frame::<S, u16>(), frame::<S, u32>());
+        let drawn = c16.iter().filter(|&&p| p != 0).count();
+        assert!(drawn > 50, "{}: {drawn} pixels drawn", S::NAME);
+        assert!(
+            c16.iter().all(|&p| p == 0 || p == 100),
+            "{}: u16 {c16:?}",
+            S::NAME
+        );
+        assert!(
+            c32.iter().all(|&p| p == 0 || p == 200),
+            "{}: u32 {c32:?}",
+            S::NAME
+        );
+        assert_eq!(
+            c32.iter().filter(|&&p| p != 0).count(),
+            drawn,
+            "{}",
+            S::NAME
+        );
+    }
+    macro_rules! each {
+        ([] $($S:ty),* $(,)?) => {
+            $(check::<$S>();)*
+        };
+    }
+    crate::for_each_span_method!(each);
+}

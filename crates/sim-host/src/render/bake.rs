@@ -432,6 +432,11 @@ fn bake_meshes(
             bg[1],
             bg[2]
         );
+        let _ = writeln!(
+            f,
+            "/// The depth buffer's cell (`depth_bits` of the scene file).\npub type Depth = u{};\n",
+            if d.depth_bits == 32 { 32 } else { 16 }
+        );
         f.push_str(&scene_src(&s));
         f.push('\n');
     }

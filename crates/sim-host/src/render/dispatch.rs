@@ -14,6 +14,10 @@
 //!   `Divider`, the only part those fills take from them, is the same for all);
 //! - perspective correction and sampled Phong: one each.
 //!
+//! Those draw into strips with 16-bit depth cells. Scenes with `depth_bits = 32`
+//! take the same set again for strips with 32-bit cells, depth-tested draws only (a
+//! draw without the depth test never reads the cells, so it takes the 16-bit set).
+//!
 //! Each comes twice: with the exact divider, and with [`HostDivide`] (every
 //! approximate divider, chosen at run time, see [`super::host`]). The specular model
 //! is not a parameter here: frames are prepared with [`super::host::HostSpecular`]
@@ -31,7 +35,7 @@ use fixshade::render::{Frame, RenderError, Stats};
 use fixshade::sampler::Threshold;
 use fixshade::shade::{Flat, Gouraud, Shading};
 use fixshade::specular::Specular;
-use fixshade::target::{PixelFormat, Strip};
+use fixshade::target::{DepthFormat, PixelFormat, Strip};
 
 use super::host::{HostDivide, HostSpecular};
 use crate::scene::convert::threshold_q8;
@@ -46,48 +50,83 @@ pub struct Args {
     perspective: Option<Perspective>,
 }
 
-/// A frame's draw into a strip, with its arguments.
-pub type DrawFn<P, Sp> =
-    fn(&Frame<'_, '_, '_, P, Sp>, &mut Strip<'_, P>, &Args) -> Result<Stats, RenderError>;
+/// A frame's draw into a strip with depth cells `C`, with its arguments.
+pub type DrawFn<P, Sp, C = u16> =
+    fn(&Frame<'_, '_, '_, P, Sp>, &mut Strip<'_, P, C>, &Args) -> Result<Stats, RenderError>;
+
+/// A strip with the depth cells its scene asks for (`depth_bits`).
+pub enum DepthStrip<'s, 'b, P: PixelFormat> {
+    /// 16-bit cells (or no depth buffer).
+    D16(&'s mut Strip<'b, P, u16>),
+    /// 32-bit cells.
+    D32(&'s mut Strip<'b, P, u32>),
+}
+
+impl<'b, P: PixelFormat> DepthStrip<'_, 'b, P> {
+    /// The same strip, borrowed again (to draw into it more than once).
+    pub fn reborrow(&mut self) -> DepthStrip<'_, 'b, P> {
+        match self {
+            DepthStrip::D16(s) => DepthStrip::D16(s),
+            DepthStrip::D32(s) => DepthStrip::D32(s),
+        }
+    }
+}
+
+/// The draw function of either depth cell.
+enum Fn16or32<P: PixelFormat, Sp: Specular> {
+    D16(DrawFn<P, Sp, u16>),
+    D32(DrawFn<P, Sp, u32>),
+}
 
 /// The draw a scene description asks for, chosen once: call [`Draw::run`] for
 /// every strip of every frame.
 pub struct Draw<P: PixelFormat, Sp: Specular> {
-    f: DrawFn<P, Sp>,
+    f: Fn16or32<P, Sp>,
     args: Args,
 }
 
 impl<P: PixelFormat, Sp: Specular> Draw<P, Sp> {
-    /// Draws `frame` into `target`.
+    /// True if the draw takes strips with 32-bit depth cells.
+    pub fn depth32(&self) -> bool {
+        matches!(self.f, Fn16or32::D32(_))
+    }
+
+    /// Draws `frame` into `target`, whose depth cells must be the draw's
+    /// ([`Draw::depth32`]).
     pub fn run(
         &self,
         frame: &Frame<'_, '_, '_, P, Sp>,
-        target: &mut Strip<'_, P>,
+        target: DepthStrip<'_, '_, P>,
     ) -> Result<Stats, String> {
-        (self.f)(frame, target, &self.args).map_err(|e| e.to_string())
+        match (&self.f, target) {
+            (Fn16or32::D16(f), DepthStrip::D16(t)) => f(frame, t, &self.args),
+            (Fn16or32::D32(f), DepthStrip::D32(t)) => f(frame, t, &self.args),
+            _ => return Err("the strip's depth cells are not the draw's".into()),
+        }
+        .map_err(|e| e.to_string())
     }
 }
 
-fn with<P: PixelFormat, Sp: Specular, S: SpanMethod, Z: DepthMode, Sh: Shading>(
+fn with<P: PixelFormat, Sp: Specular, S: SpanMethod, Z: DepthMode, Sh: Shading, C: DepthFormat>(
     frame: &Frame<'_, '_, '_, P, Sp>,
-    target: &mut Strip<'_, P>,
+    target: &mut Strip<'_, P, C>,
     _: &Args,
 ) -> Result<Stats, RenderError> {
     frame.draw_with::<S, Z, Sh, _>(target)
 }
 
-fn sampled<P: PixelFormat, Sp: Specular>(
+fn sampled<P: PixelFormat, Sp: Specular, C: DepthFormat>(
     frame: &Frame<'_, '_, '_, P, Sp>,
-    target: &mut Strip<'_, P>,
+    target: &mut Strip<'_, P, C>,
     args: &Args,
 ) -> Result<Stats, RenderError> {
     let sampling = args.sampling.expect("chosen with a sampling");
     frame.draw_phong_sampled(target, sampling)
 }
 
-fn perspective<D: Divide, P: PixelFormat, Sp: Specular>(
+fn perspective<D: Divide, P: PixelFormat, Sp: Specular, C: DepthFormat>(
     frame: &Frame<'_, '_, '_, P, Sp>,
-    target: &mut Strip<'_, P>,
+    target: &mut Strip<'_, P, C>,
     args: &Args,
 ) -> Result<Stats, RenderError> {
     let mode = args.perspective.expect("chosen with a perspective mode");
@@ -99,10 +138,21 @@ fn perspective<D: Divide, P: PixelFormat, Sp: Specular>(
 macro_rules! span_table {
     ([$P:ty, $Sp:ty] $($S:ty),* $(,)?) => {
         [$([
-            with::<$P, $Sp, $S, NoDepth, Flat> as DrawFn<$P, $Sp>,
-            with::<$P, $Sp, $S, DepthTest, Flat>,
-            with::<$P, $Sp, $S, NoDepth, Gouraud>,
-            with::<$P, $Sp, $S, DepthTest, Gouraud>,
+            with::<$P, $Sp, $S, NoDepth, Flat, u16> as DrawFn<$P, $Sp>,
+            with::<$P, $Sp, $S, DepthTest, Flat, u16>,
+            with::<$P, $Sp, $S, NoDepth, Gouraud, u16>,
+            with::<$P, $Sp, $S, DepthTest, Gouraud, u16>,
+        ]),*]
+    };
+}
+
+/// Depth-tested flat and Gouraud draws of every span method into 32-bit depth
+/// cells, indexed `[method][gouraud]`.
+macro_rules! span_table32 {
+    ([$P:ty, $Sp:ty] $($S:ty),* $(,)?) => {
+        [$([
+            with::<$P, $Sp, $S, DepthTest, Flat, u32> as DrawFn<$P, $Sp, u32>,
+            with::<$P, $Sp, $S, DepthTest, Gouraud, u32>,
         ]),*]
     };
 }
@@ -112,9 +162,17 @@ macro_rules! span_table {
 macro_rules! shading_table {
     ([$P:ty, $Sp:ty, $G:ty] $(($name:expr, $mode:expr, $Sh:ty)),* $(,)?) => {
         [$([
-            with::<$P, $Sp, $G, NoDepth, $Sh> as DrawFn<$P, $Sp>,
-            with::<$P, $Sp, $G, DepthTest, $Sh>,
+            with::<$P, $Sp, $G, NoDepth, $Sh, u16> as DrawFn<$P, $Sp>,
+            with::<$P, $Sp, $G, DepthTest, $Sh, u16>,
         ]),*]
+    };
+}
+
+/// Depth-tested draws of every core shading mode with the span method `$G` into
+/// 32-bit depth cells, indexed `[shading]`.
+macro_rules! shading_table32 {
+    ([$P:ty, $Sp:ty, $G:ty] $(($name:expr, $mode:expr, $Sh:ty)),* $(,)?) => {
+        [$(with::<$P, $Sp, $G, DepthTest, $Sh, u32> as DrawFn<$P, $Sp, u32>),*]
     };
 }
 
@@ -137,6 +195,10 @@ trait Divided: Divide {
     fn spans<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 4]>;
     /// Draws of every core shading mode with `gradient`, `[shading][depth]`.
     fn shadings<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 2]>;
+    /// Depth-tested flat and Gouraud draws into 32-bit cells, `[method][gouraud]`.
+    fn spans32<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp, u32>; 2]>;
+    /// Depth-tested draws of every core shading mode into 32-bit cells, `[shading]`.
+    fn shadings32<P: PixelFormat, Sp: Specular>() -> Vec<DrawFn<P, Sp, u32>>;
 }
 
 impl Divided for Exact {
@@ -146,6 +208,12 @@ impl Divided for Exact {
     fn shadings<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 2]> {
         fixshade::for_each_shading!(shading_table[P, Sp, Gradient]).to_vec()
     }
+    fn spans32<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp, u32>; 2]> {
+        fixshade::for_each_span_method!(span_table32[P, Sp]).to_vec()
+    }
+    fn shadings32<P: PixelFormat, Sp: Specular>() -> Vec<DrawFn<P, Sp, u32>> {
+        fixshade::for_each_shading!(shading_table32[P, Sp, Gradient]).to_vec()
+    }
 }
 
 impl Divided for HostDivide {
@@ -154,6 +222,13 @@ impl Divided for HostDivide {
     }
     fn shadings<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 2]> {
         fixshade::for_each_shading!(shading_table[P, Sp, WithDivide<Gradient, HostDivide>]).to_vec()
+    }
+    fn spans32<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp, u32>; 2]> {
+        fixshade::for_each_span_method!(span_table32[P, Sp]; HostDivide).to_vec()
+    }
+    fn shadings32<P: PixelFormat, Sp: Specular>() -> Vec<DrawFn<P, Sp, u32>> {
+        fixshade::for_each_shading!(shading_table32[P, Sp, WithDivide<Gradient, HostDivide>])
+            .to_vec()
     }
 }
 
@@ -188,7 +263,8 @@ impl Lighting for HostSpecular {
 /// Phong lighting, perspective-correct colours or normals when a Gouraud, Phong or
 /// adaptive scene asks for them (coverage then follows `gradient`), the shading's
 /// own fill for quadratic, Phong and adaptive, the span method otherwise; with the
-/// scene's depth test.
+/// scene's depth test, into 32-bit depth cells when the scene asks for them and
+/// tests depth.
 fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
     d: &SceneDesc,
 ) -> Result<Draw<P, Sp>, String> {
@@ -196,6 +272,15 @@ fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
         return Err(format!("{} has no raster pipeline", d.shading));
     }
     let depth = usize::from(d.depth_test);
+    let d32 = d.depth_test && d.depth_bits == 32;
+    let draw = |f16: DrawFn<P, Sp>, f32: DrawFn<P, Sp, u32>, args: Args| Draw {
+        f: if d32 {
+            Fn16or32::D32(f32)
+        } else {
+            Fn16or32::D16(f16)
+        },
+        args,
+    };
     if d.shading == ShadingName::PHONG && d.raycast.sampled {
         let threshold = Threshold::from_q8(threshold_q8(d.raycast.threshold), P::MAX);
         let args = Args {
@@ -205,10 +290,7 @@ fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
             }),
             ..Args::default()
         };
-        return Ok(Draw {
-            f: sampled::<P, Sp>,
-            args,
-        });
+        return Ok(draw(sampled::<P, Sp, u16>, sampled::<P, Sp, u32>, args));
     }
     if d.perspective_correct && perspective_shading(d.shading) {
         let mode = Perspective::new(d.perspective_span).ok_or_else(|| {
@@ -221,21 +303,26 @@ fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
             perspective: Some(mode),
             ..Args::default()
         };
-        return Ok(Draw {
-            f: perspective::<D, P, Sp>,
+        return Ok(draw(
+            perspective::<D, P, Sp, u16>,
+            perspective::<D, P, Sp, u32>,
             args,
-        });
+        ));
     }
     let args = Args::default();
     if d.shading.own_fill() {
-        return Ok(Draw {
-            f: D::shadings::<P, Sp>()[d.shading.index()][depth],
+        let i = d.shading.index();
+        return Ok(draw(
+            D::shadings::<P, Sp>()[i][depth],
+            D::shadings32::<P, Sp>()[i],
             args,
-        });
+        ));
     }
     let gouraud = usize::from(d.shading == ShadingName::GOURAUD);
-    Ok(Draw {
-        f: D::spans::<P, Sp>()[d.span.index()][2 * gouraud + depth],
+    let i = d.span.index();
+    Ok(draw(
+        D::spans::<P, Sp>()[i][2 * gouraud + depth],
+        D::spans32::<P, Sp>()[i][gouraud],
         args,
-    })
+    ))
 }

@@ -12,9 +12,9 @@ use std::time::{Duration, Instant};
 use fixshade::effects::NoSpecular;
 use fixshade::eg::{Covered, CoveredPixel};
 use fixshade::render::{Frame, Stats, XfVertex};
-use fixshade::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
+use fixshade::target::{DepthFormat, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
 
-use super::dispatch::{Draw, Lighting};
+use super::dispatch::{DepthStrip, Draw, Lighting};
 use super::host::{with_selection, HostSpecular};
 use super::output::Render;
 use crate::image::Image;
@@ -70,11 +70,17 @@ impl<P: PixelFormat, Sp: Lighting> Pipeline<P, Sp> {
         .map_err(|e| e.to_string())
     }
 
-    /// Draws a prepared frame into a strip (of every row, or of some).
+    /// True if the frames draw into strips with 32-bit depth cells.
+    pub fn depth32(&self) -> bool {
+        self.draw.depth32()
+    }
+
+    /// Draws a prepared frame into a strip (of every row, or of some) whose depth
+    /// cells are the pipeline's ([`Pipeline::depth32`]).
     pub fn draw(
         &self,
         frame: &Frame<'_, '_, '_, Covered<P>, Sp>,
-        strip: &mut Strip<'_, Covered<P>>,
+        strip: DepthStrip<'_, '_, Covered<P>>,
     ) -> Result<Stats, String> {
         with_selection(self.divide, self.specular, || self.draw.run(frame, strip))
     }
@@ -183,12 +189,27 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
 type Pixels<P> = Vec<CoveredPixel<<P as PixelFormat>::Raw>>;
 
 /// The frame `d` describes, drawn band by band: `rows` rows at a time into one
-/// [`Covered`] strip cleared to the background, `draw` filling each band; returns
-/// the bands' pixels in frame order and the statistics summed.
+/// [`Covered`] strip cleared to the background, with 32-bit depth cells if
+/// `depth32`, `draw` filling each band; returns the bands' pixels in frame order and
+/// the statistics summed.
 fn bands<P: PixelFormat>(
     d: &SceneDesc,
     rows: u32,
-    mut draw: impl FnMut(&mut Strip<'_, Covered<P>>) -> Result<Stats, String>,
+    depth32: bool,
+    mut draw: impl FnMut(DepthStrip<'_, '_, Covered<P>>) -> Result<Stats, String>,
+) -> Result<(Pixels<P>, Stats), String> {
+    if depth32 {
+        bands_with::<P, u32>(d, rows, |s| draw(DepthStrip::D32(s)))
+    } else {
+        bands_with::<P, u16>(d, rows, |s| draw(DepthStrip::D16(s)))
+    }
+}
+
+/// [`bands`] with depth cells `C`.
+fn bands_with<P: PixelFormat, C: DepthFormat>(
+    d: &SceneDesc,
+    rows: u32,
+    mut draw: impl FnMut(&mut Strip<'_, Covered<P>, C>) -> Result<Stats, String>,
 ) -> Result<(Pixels<P>, Stats), String> {
     let (w, h) = (d.width, d.height);
     let rows = rows.clamp(1, h);
@@ -199,12 +220,12 @@ fn bands<P: PixelFormat>(
     };
     let mut color = Vec::with_capacity(w as usize * h as usize);
     let mut band = vec![bg; w as usize * rows as usize];
-    let mut depth = vec![0xFFFFu16; w as usize * rows as usize];
+    let mut depth = vec![C::FAR; w as usize * rows as usize];
     let mut stats = Stats::default();
     let mut y0 = 0;
     while y0 < h {
         let hh = rows.min(h - y0);
-        let mut strip = Strip::<Covered<P>>::new(
+        let mut strip = Strip::<Covered<P>, C>::new(
             &mut band,
             d.depth_test.then_some(&mut depth[..]),
             w,
@@ -240,7 +261,8 @@ fn render_as<P: PixelFormat, Sp: Lighting>(
     let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
     let frame = pipeline.prepare(&scene, d.width, d.height, &mut cache)?;
-    let (color, stats) = bands::<P>(d, strip_rows.unwrap_or(d.height), |strip| {
+    let rows = strip_rows.unwrap_or(d.height);
+    let (color, stats) = bands::<P>(d, rows, pipeline.depth32(), |strip| {
         pipeline.draw(&frame, strip)
     })?;
     let bg8 = background8(d);
@@ -279,22 +301,30 @@ fn time_as<P: PixelFormat, Sp: Lighting>(
     let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
     let mut color = vec![CoveredPixel::<P::Raw>::default(); n];
-    let mut depth = vec![0xFFFFu16; n];
+    let (mut depth16, mut depth32) = (Vec::new(), Vec::new());
+    if pipeline.depth32() {
+        depth32 = vec![u32::FAR; n];
+    } else {
+        depth16 = vec![u16::FAR; n];
+    }
     let mut times = Vec::with_capacity(runs);
     for _ in 0..runs.max(1) {
-        depth.fill(0xFFFF);
+        depth16.fill(u16::FAR);
+        depth32.fill(u32::FAR);
         let t = Instant::now();
         let frame = pipeline.prepare(&scene, w, h, &mut cache)?;
-        let mut fb = Strip::<Covered<P>>::new(
-            &mut color,
-            d.depth_test.then_some(&mut depth[..]),
-            w,
-            h,
-            0,
-            h,
-        )
-        .map_err(|e| e.to_string())?;
-        std::hint::black_box(pipeline.draw(&frame, &mut fb)?);
+        let stats = if pipeline.depth32() {
+            let depth = d.depth_test.then_some(&mut depth32[..]);
+            let mut fb = Strip::<Covered<P>, u32>::new(&mut color, depth, w, h, 0, h)
+                .map_err(|e| e.to_string())?;
+            pipeline.draw(&frame, DepthStrip::D32(&mut fb))?
+        } else {
+            let depth = d.depth_test.then_some(&mut depth16[..]);
+            let mut fb = Strip::<Covered<P>>::new(&mut color, depth, w, h, 0, h)
+                .map_err(|e| e.to_string())?;
+            pipeline.draw(&frame, DepthStrip::D16(&mut fb))?
+        };
+        std::hint::black_box(stats);
         times.push(t.elapsed());
     }
     times.sort();
@@ -343,11 +373,11 @@ fn chunked_as<P: PixelFormat, Sp: Lighting>(
         .collect::<Result<Vec<_>, String>>()?;
     let pipeline = Pipeline::<P, Sp>::new(d)?;
     let mut cache = vec![XfVertex::default(); max_vertices];
-    let (color, _) = bands::<P>(d, rows, |strip| {
+    let (color, _) = bands::<P>(d, rows, pipeline.depth32(), |mut strip| {
         let mut stats = Stats::default();
         for scene in &scenes {
             let frame = pipeline.prepare(scene, d.width, d.height, &mut cache)?;
-            stats += pipeline.draw(&frame, strip)?;
+            stats += pipeline.draw(&frame, strip.reborrow())?;
         }
         Ok(stats)
     })?;

@@ -264,8 +264,11 @@ pub struct SceneDesc {
     pub span: SpanName,
     /// Cull back faces (counter-clockwise triangles are front faces).
     pub cull_back: bool,
-    /// Use the u16 depth buffer.
+    /// Test and write a depth buffer.
     pub depth_test: bool,
+    /// Bits per depth cell: 16 (`u16`) or 32 (`u32`, for near/far ratios a 16-bit
+    /// buffer cannot resolve; see `fixshade::target::DepthFormat`).
+    pub depth_bits: u32,
     /// Perspective-correct instead of screen-affine interpolation of Gouraud colours
     /// and Phong normals and eye positions, in the fixed-point renderer and in the
     /// reference.

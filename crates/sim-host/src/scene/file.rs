@@ -37,6 +37,7 @@
 //! | `divide` | string | `"exact"` | `exact`, `table`, `shift-add-N`, `shift-add-rounded-N` (N = 4..=16) ([`DivideName`]; the divider of the classic span division, the setup reciprocal (of every shading: Gouraud, quadratic, Phong, adaptive), the perspective division and Schlick's denominator; `exact` keeps the full-precision divisions) |
 //! | `cull` | string | `"back"` | `back` (cull clockwise triangles), `none` |
 //! | `depth_test` | boolean | `true` | |
+//! | `depth_bits` | integer | 16 | 16 or 32: bits per depth cell (`u16` or `u32`); 16 suffice while far/near stays below about 2¹⁶ times the smallest depth gap the scene must resolve relative to the far distance (see `fixshade::target::DepthFormat`), 32 take twice the memory |
 //! | `perspective_correct` | boolean | `false` | perspective-correct Gouraud colours and Phong normals and eye positions, adaptive both (the fixed-point renderer and the reference; flat needs none, the quadratic surface and sampled Phong interpolate affinely); see docs/effects.md |
 //! | `perspective_span` | integer | 16 | 1, 2, 4, …, 64: pixels per perspective division of the fixed-point renderer (1: every pixel; otherwise linear in between) |
 //! | `segment` | integer | 8 | 1..=256; `raycast`, and `phong` when given: segment length L of the pixel-segment sampler (1: every pixel; Phong samples within pieces of 64 pixels of a span) |
@@ -133,6 +134,7 @@
 //! divide = "exact"             # default
 //! cull = "back"                # default
 //! depth_test = true            # default
+//! depth_bits = 16              # default; 32 for u32 depth cells
 //! perspective_correct = false  # default
 //!
 //! [camera]
@@ -321,6 +323,7 @@ const RENDER_KEYS: &[&str] = &[
     "divide",
     "cull",
     "depth_test",
+    "depth_bits",
     "perspective_correct",
     "perspective_span",
     "segment",
@@ -714,6 +717,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         span: SpanName::GRADIENT,
         cull_back: true,
         depth_test: true,
+        depth_bits: 16,
         perspective_correct: false,
         perspective_span: super::desc::DEFAULT_PERSPECTIVE_SPAN,
         specular: SpecularName::EXACT,
@@ -855,6 +859,13 @@ fn render(s: &Section<'_, '_>, desc: &mut SceneDesc) -> R<()> {
     desc.span = s.named("span", desc.span)?;
     desc.cull_back = s.choice("cull", 0, "cull mode", &["back", "none"])? == 0;
     desc.depth_test = s.boolean("depth_test", desc.depth_test)?;
+    desc.depth_bits = s.int_in("depth_bits", desc.depth_bits, 0, u32::MAX as i64)?;
+    if desc.depth_bits != 16 && desc.depth_bits != 32 {
+        return fail(
+            s.span_of("depth_bits"),
+            format!("`depth_bits` must be 16 or 32, found {}", desc.depth_bits),
+        );
+    }
     desc.perspective_correct = s.boolean("perspective_correct", desc.perspective_correct)?;
     desc.perspective_span = s.int_in("perspective_span", desc.perspective_span, 1, 64)?;
     if !desc.perspective_span.is_power_of_two() {

@@ -284,6 +284,7 @@ mod tests {
             span: SpanName::CLASSIC,
             cull_back: false,
             depth_test: true,
+            depth_bits: 16,
             perspective_correct: false,
             perspective_span: crate::scene::desc::DEFAULT_PERSPECTIVE_SPAN,
             specular: crate::scene::desc::SpecularName::EXACT,
