@@ -64,7 +64,7 @@ use crate::light::Specular;
 use crate::raster::span::SpanMethod;
 use crate::render::{BandMemory, Binned, Frame, Stats};
 use crate::renderer::DrawError;
-use crate::target::{PixelFormat, Strip, TargetError};
+use crate::target::{DepthFormat, PixelFormat, Strip, TargetError};
 
 /// Receives a frame band by band; implemented by display drivers.
 ///
@@ -113,8 +113,9 @@ pub trait LineBufferProvider {
 /// [`Frame::bin`] into `mem`, then [`render_binned`].
 ///
 /// Bands are `band_rows` rows tall (the last one may be shorter; 0 counts as 1).
-/// `depth` holds at least `width · band_rows` entries and is required when the
-/// scene uses the depth test. Each band is cleared to `background` before drawing.
+/// `depth` holds at least `width · band_rows` cells (`u16`, or `u32` where 16 bits
+/// do not resolve the scene's near/far range: [`DepthFormat`]) and is required when
+/// the scene uses the depth test. Each band is cleared to `background` before drawing.
 /// `mem` lends the memory for setting each triangle up once per frame
 /// ([`BandMemory`]; `BandMemory::new(&mut [], &mut [], &mut [])` lends none, and
 /// every band then walks all triangles again). Errors: [`DrawError::Render`] from
@@ -150,7 +151,7 @@ pub fn render_lines<S, P, L, Sp>(
     frame: &Frame<'_, '_, '_, P, Sp>,
     band_rows: u32,
     mem: BandMemory<'_>,
-    depth: Option<&mut [u16]>,
+    depth: Option<&mut [impl DepthFormat]>,
     background: P::Raw,
     provider: &mut L,
 ) -> Result<Stats, DrawError>
@@ -202,7 +203,7 @@ where
 /// ```
 pub fn render_binned<S, P, L, Sp>(
     binned: &Binned<'_, '_, '_, '_, '_, P, Sp>,
-    mut depth: Option<&mut [u16]>,
+    mut depth: Option<&mut [impl DepthFormat]>,
     background: P::Raw,
     provider: &mut L,
 ) -> Result<Stats, DrawError>
@@ -222,7 +223,7 @@ where
         let mut result = Ok(Stats::default());
         let depth = depth.as_deref_mut();
         provider.process_lines(rows.clone(), |buf| {
-            result = Strip::<P>::new(buf, depth, w, h, rows.start, rows.len() as u32)
+            result = Strip::new(buf, depth, w, h, rows.start, rows.len() as u32)
                 .map_err(DrawError::from)
                 .and_then(|mut strip| {
                     strip.clear(background);
