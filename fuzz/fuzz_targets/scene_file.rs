@@ -60,7 +60,7 @@ fuzz_target!(|data: &[u8]| {
         // The depth cells the scene asks for (`depth_bits`).
         if d.depth_bits == 32 {
             let mut strip =
-                Strip::<Rgb888, u32>::new(&mut color, Some(&mut depth32), d.width, d.height, y0, 1)
+                Strip::<Rgb888, u32>::with_depth_format(&mut color, Some(&mut depth32), d.width, d.height, y0, 1)
                     .expect("one-row strip");
             let _ = with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip));
         } else {

@@ -274,7 +274,7 @@ fn run() -> Result<(), &'static str> {
                 return Err("32-bit depth for frames up to 320 x 240 only");
             }
             let mut fb =
-                Framebuffer::<Rgb565Le, u32>::new(&mut color[..n], Some(&mut depth32[..n]), w, h)
+                Framebuffer::<Rgb565Le, u32>::with_depth_format(&mut color[..n], Some(&mut depth32[..n]), w, h)
                     .map_err(|_| "framebuffer")?;
             draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
             continue;

@@ -293,7 +293,7 @@ fn draw_bands(
         let t1 = timer.get_counter();
         let rows = binned.rows(band);
         buf.len = (W * rows.len() as u32) as usize;
-        let mut strip = Strip::<Rgb565Be, teapot::Depth>::new(
+        let mut strip = Strip::<Rgb565Be, teapot::Depth>::with_depth_format(
             &mut buf.px[..],
             Some(&mut depth[..]),
             W,

@@ -249,7 +249,7 @@ fn main() -> ! {
                 .expect("one buffer is free: the other is on the wire");
             let rows = binned.rows(band);
             let len = (W * rows.len() as u32) as usize;
-            let mut strip = Strip::<Rgb565Be, teapot::Depth>::new(
+            let mut strip = Strip::<Rgb565Be, teapot::Depth>::with_depth_format(
                 &mut px[..],
                 Some(&mut depth[..]),
                 W,

@@ -74,10 +74,10 @@ pub use crate::light::Specular;
 /// let mut cache = [XfVertex::default(); 3];
 /// let full = Frame::<Gray8>::prepare(&scene, 1, 1, &mut cache).unwrap();
 /// let (mut a, mut b) = ([0u8; 1], [0u8; 1]);
-/// full.draw::<Gradient, _>(&mut Framebuffer::new(&mut a, Some(&mut [0xFFFF]), 1, 1).unwrap()).unwrap();
+/// full.draw::<Gradient, _>(&mut Framebuffer::new(&mut a, Some(&mut [0xFFFFu16]), 1, 1).unwrap()).unwrap();
 /// let mut cache = [XfVertex::default(); 3];
 /// let diffuse = Frame::<Gray8>::prepare_with::<NoSpecular>(&scene, 1, 1, &mut cache).unwrap();
-/// diffuse.draw::<Gradient, _>(&mut Framebuffer::new(&mut b, Some(&mut [0xFFFF]), 1, 1).unwrap()).unwrap();
+/// diffuse.draw::<Gradient, _>(&mut Framebuffer::new(&mut b, Some(&mut [0xFFFFu16]), 1, 1).unwrap()).unwrap();
 /// assert!(b[0] < a[0]);
 /// ```
 #[derive(Copy, Clone, Debug, Default)]

@@ -223,7 +223,7 @@ where
         let mut result = Ok(Stats::default());
         let depth = depth.as_deref_mut();
         provider.process_lines(rows.clone(), |buf| {
-            result = Strip::new(buf, depth, w, h, rows.start, rows.len() as u32)
+            result = Strip::with_depth_format(buf, depth, w, h, rows.start, rows.len() as u32)
                 .map_err(DrawError::from)
                 .and_then(|mut strip| {
                     strip.clear(background);

@@ -9,35 +9,7 @@
 //! The choice is a type, so the span loop of a flat triangle carries no colour
 //! interpolation at all.
 
-/// A shading mode.
-///
-/// ```
-/// use fixshade::shade::{Flat, Gouraud, Phong, Quadratic, Shading};
-/// assert!(!Flat::INTERPOLATE && Gouraud::INTERPOLATE);
-/// assert!(Quadratic::QUADRATIC && Phong::PER_PIXEL);
-/// assert_eq!(Gouraud::NAME, "gouraud");
-/// ```
-pub trait Shading {
-    /// Name used by the CLI and scene files.
-    const NAME: &'static str;
-    /// True if colours are interpolated across the triangle.
-    const INTERPOLATE: bool;
-    /// True for the quadratic intensity surface: [`crate::render::Frame`] lights
-    /// the edge midpoints and fills with [`crate::raster::quadratic`]. A bare
-    /// [`crate::raster::draw_triangle`] has no midpoint colours and treats it as
-    /// Gouraud.
-    const QUADRATIC: bool = false;
-    /// How the quadratic surface is filled (only read when `QUADRATIC`).
-    const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Blocks;
-    /// True for Phong shading: [`crate::render::Frame`] interpolates normals and
-    /// eye positions and lights every pixel ([`crate::raster::phong`]).
-    const PER_PIXEL: bool = false;
-    /// With `PER_PIXEL`: the even/odd fill (two accumulators per attribute).
-    const EVEN_ODD: bool = false;
-    /// True for adaptive shading: [`crate::render::Frame`] decides per triangle
-    /// between Phong and Gouraud ([`Adaptive`]).
-    const ADAPTIVE: bool = false;
-}
+pub use crate::raster::shading::Shading;
 
 /// One colour per triangle: its provoking (last) vertex's.
 ///

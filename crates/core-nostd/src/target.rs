@@ -332,25 +332,39 @@ pub struct Framebuffer<'a, P: PixelFormat, D: DepthFormat = u16> {
     strip: Strip<'a, P, D>,
 }
 
-impl<'a, P: PixelFormat, D: DepthFormat> Framebuffer<'a, P, D> {
+impl<'a, P: PixelFormat> Framebuffer<'a, P> {
     /// Borrows `color` (at least `width·height` pixels, row-major) and an optional
-    /// depth buffer of the same size (`u16` or `u32` cells, see [`DepthFormat`]).
+    /// `u16` depth buffer of the same size ([`Framebuffer::with_depth_format`] takes
+    /// other cells).
+    pub fn new(
+        color: &'a mut [P::Raw],
+        depth: Option<&'a mut [u16]>,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, TargetError> {
+        Self::with_depth_format(color, depth, width, height)
+    }
+}
+
+impl<'a, P: PixelFormat, D: DepthFormat> Framebuffer<'a, P, D> {
+    /// [`Framebuffer::new`] with depth cells of any [`DepthFormat`] (`u16` or
+    /// `u32`).
     ///
     /// ```
     /// use fixshade::target::{DepthFormat, Framebuffer, Gray8, Target};
     /// let (mut c, mut d) = ([0u8; 4], [0u32; 4]);
-    /// let mut fb = Framebuffer::<Gray8, u32>::new(&mut c, Some(&mut d), 2, 2).unwrap();
+    /// let mut fb = Framebuffer::<Gray8, u32>::with_depth_format(&mut c, Some(&mut d), 2, 2).unwrap();
     /// fb.clear(0);
     /// assert_eq!(fb.row(1).1, &[u32::FAR; 2]);
     /// ```
-    pub fn new(
+    pub fn with_depth_format(
         color: &'a mut [P::Raw],
         depth: Option<&'a mut [D]>,
         width: u32,
         height: u32,
     ) -> Result<Self, TargetError> {
         Ok(Framebuffer {
-            strip: Strip::new(color, depth, width, height, 0, height)?,
+            strip: Strip::with_depth_format(color, depth, width, height, 0, height)?,
         })
     }
 
@@ -431,9 +445,33 @@ pub struct Strip<'a, P: PixelFormat, D: DepthFormat = u16> {
     h: u32,
 }
 
-impl<'a, P: PixelFormat, D: DepthFormat> Strip<'a, P, D> {
-    /// Borrows buffers for rows `[y0, y0 + h)` of a frame `width` × `frame_height`.
+impl<'a, P: PixelFormat> Strip<'a, P> {
+    /// Borrows buffers for rows `[y0, y0 + h)` of a frame `width` × `frame_height`:
+    /// `color` and an optional `u16` depth buffer, each of at least `width·h`
+    /// pixels ([`Strip::with_depth_format`] takes other depth cells).
     pub fn new(
+        color: &'a mut [P::Raw],
+        depth: Option<&'a mut [u16]>,
+        width: u32,
+        frame_height: u32,
+        y0: u32,
+        h: u32,
+    ) -> Result<Self, TargetError> {
+        Self::with_depth_format(color, depth, width, frame_height, y0, h)
+    }
+}
+
+impl<'a, P: PixelFormat, D: DepthFormat> Strip<'a, P, D> {
+    /// [`Strip::new`] with depth cells of any [`DepthFormat`] (`u16` or `u32`).
+    ///
+    /// ```
+    /// use fixshade::target::{Gray8, Strip, Target};
+    /// // Rows 4..6 of a 3 × 8 frame, with 32-bit depth.
+    /// let (mut c, mut d) = ([0u8; 6], [0u32; 6]);
+    /// let s = Strip::<Gray8, u32>::with_depth_format(&mut c, Some(&mut d), 3, 8, 4, 2).unwrap();
+    /// assert_eq!(s.rows(), 4..6);
+    /// ```
+    pub fn with_depth_format(
         color: &'a mut [P::Raw],
         depth: Option<&'a mut [D]>,
         width: u32,

@@ -111,7 +111,7 @@ fn draw_case<D: DepthFormat>(
     let (w, h) = (case.width, case.height);
     let n = (w * h) as usize;
     let bg = Rgb565Le::pack(case.background[0], case.background[1], case.background[2]);
-    let mut fb = Framebuffer::<Rgb565Le, D>::new(
+    let mut fb = Framebuffer::<Rgb565Le, D>::with_depth_format(
         &mut color[..n],
         if scene.depth_test {
             Some(&mut depth[..n])

@@ -697,7 +697,7 @@ const OFFSET: [u32; 3] = [43, 21, 0];
 
 /// The packed form of the three colour channels of `v` in the 5-6-5 lanes,
 /// `Σ vₖ·2^offsetₖ` modulo 2⁶⁴ (signed values sign-extended): for an increment, once
-/// per triangle. Linear, like `super::span`'s `packed_channels` for the 5-6-5
+/// per triangle. Linear, like `super::pixel`'s `packed_channels` for the 5-6-5
 /// formats, which it equals.
 ///
 /// ```
@@ -756,7 +756,8 @@ pub fn span_start_565(v: &[i32; ATTRS], g: &[i32; ATTRS], n: usize) -> Option<u6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::span::{pack_pixel, packed_channels, DepthTest, NoDepth};
+    use crate::raster::pixel::packed_channels;
+    use crate::raster::span::{pack_pixel, DepthTest, NoDepth};
     use crate::target::{Rgb565Be, Rgb565Le};
 
     /// The portable `nearer` is the per-half specification, for every order of the

@@ -32,53 +32,199 @@ pub mod edge;
 pub mod parallel;
 pub mod perspective;
 pub mod phong;
+pub mod pixel;
 pub mod quadratic;
 pub mod setup;
+pub mod shading;
 pub mod sierpinski;
 pub mod span;
+pub mod vertex;
 
 use edge::{first_row, EdgeStepper};
+use pixel::{DepthMode, NoDepth};
 use setup::{Setup, ATTRS};
-use span::{DepthMode, EdgeValues, Span, SpanMethod};
+use shading::Shading;
+pub(crate) use vertex::outside_guard;
+pub use vertex::{ScreenVertex, GUARD, SUBPIXEL_BITS};
 
+use crate::divide::Divide;
 use crate::math::mul_wide_u;
-use crate::shade::Shading;
-use crate::target::{PixelFormat, Target};
+use crate::target::{DepthFormat, PixelFormat, Target};
 
-/// Subpixel bits of screen coordinates (Q12.4).
-pub const SUBPIXEL_BITS: u32 = 4;
-
-/// Guard band: screen coordinates must satisfy |x|, |y| < `GUARD` (Q12.4), i.e. lie
-/// within ±4096 pixels of the origin. Anything inside is rasterized without clipping.
-pub const GUARD: i32 = 4096 << SUBPIXEL_BITS;
-
-/// True if a vertex lies outside the guard band (such triangles are not drawn).
-/// `unsigned_abs`: a coordinate at `i32::MIN` is outside too, without overflow.
-#[inline]
-pub(crate) fn outside_guard(p: [(i32, i32); 3]) -> bool {
-    p.iter()
-        .any(|(x, y)| x.unsigned_abs() >= GUARD as u32 || y.unsigned_abs() >= GUARD as u32)
-}
-
-/// A vertex in screen space.
+/// Edge crossings of a row, for methods that interpolate between the edges.
+///
+/// The crossings are exact rationals: an edge stepper at row `y` crosses the row at
+/// `q − r/d` in pixel-centre coordinates (pixel x has its centre at x).
 ///
 /// ```
-/// use fixshade::raster::ScreenVertex;
-/// // Pixel (10.5, 3.25), depth 0.5, full red in RGB565 channel units (Q.16).
-/// let v = ScreenVertex { x: 168, y: 52, z: 32767 << 16, c: [31 << 16, 0, 0] };
-/// assert_eq!((v.x / 16, v.y / 16), (10, 3));
+/// use fixshade::raster::span::EdgeValues;
+/// // Filled by the edge walker for methods with `EDGE_VALUES = true` (classic); the
+/// // default is an empty placeholder with a valid stepper (d = 1).
+/// let e = EdgeValues::default();
+/// assert_eq!((e.left.d, e.il), (1, [0; 4]));
 /// ```
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
-pub struct ScreenVertex {
-    /// x in Q12.4 (1/16 pixel), the left edge of the frame at 0.
-    pub x: i32,
-    /// y in Q12.4, the top edge of the frame at 0, y down.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct EdgeValues {
+    /// The left edge's stepper on this row.
+    pub left: EdgeStepper,
+    /// The right edge's stepper on this row.
+    pub right: EdgeStepper,
+    /// Attribute values at the left crossing (true values, bias included).
+    pub il: [i64; ATTRS],
+    /// Attribute values at the right crossing.
+    pub ir: [i64; ATTRS],
+}
+
+impl Default for EdgeValues {
+    fn default() -> Self {
+        let e = EdgeStepper {
+            q: 0,
+            r: 0,
+            d: 1,
+            a: 0,
+            b: 0,
+        };
+        EdgeValues {
+            left: e,
+            right: e,
+            il: [0; ATTRS],
+            ir: [0; ATTRS],
+        }
+    }
+}
+
+/// One row's worth of work for a span method.
+///
+/// ```
+/// use fixshade::raster::span::{EdgeValues, Span};
+/// // Row 7, pixels 10..14, red 0.5 in Q.16 channel units at x = 10, depth 0.
+/// let s = Span { y: 7, x0: 10, x1: 14, v: [1 << 15, 0, 0, 0], edges: EdgeValues::default() };
+/// assert_eq!(s.x1 - s.x0, 4);
+/// ```
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Span {
+    /// Pixel row.
     pub y: i32,
-    /// Depth in Q16.16: `floor(d · 65534 · 2¹⁶)` for d in [0, 1], near = 0.
-    pub z: u32,
-    /// Colour channels in the target format's channel units, Q.16 (R, G, B; grey
-    /// formats use channel 0).
-    pub c: [i32; 3],
+    /// First pixel.
+    pub x0: i32,
+    /// One past the last pixel (`x0 < x1`).
+    pub x1: i32,
+    /// Lattice attribute values at `x0`.
+    pub v: [i32; ATTRS],
+    /// Edge crossings; filled only when the method's `EDGE_VALUES` is true.
+    pub edges: EdgeValues,
+}
+
+/// How a span's pixel values are computed.
+///
+/// ```
+/// use fixshade::raster::setup::Setup;
+/// use fixshade::raster::span::{write_run, DepthMode, NoDepth, Span, SpanMethod};
+/// use fixshade::raster::{draw_triangle, ScreenVertex};
+/// use fixshade::shade::{Gouraud, Shading};
+/// use fixshade::target::{DepthFormat, Framebuffer, Gray8, PixelFormat};
+///
+/// /// A custom method: every span in the colour of its first pixel.
+/// struct PerSpan;
+/// impl SpanMethod for PerSpan {
+///     const NAME: &'static str = "per-span";
+///     const EDGE_VALUES: bool = false;
+///     type Divider = fixshade::divide::Exact;
+///     type Tri = ();
+///     fn prepare(_: &Setup) {}
+///     fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+///         color: &mut [P::Raw],
+///         depth: &mut [impl DepthFormat],
+///         span: &Span,
+///         _tri: &Setup,
+///         _: &(),
+///     ) {
+///         write_run::<P, Z, Sh>(color, depth, span.v, &[0; 4]);
+///     }
+/// }
+///
+/// let mut px = [0u8; 16 * 16];
+/// let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 16, 16).unwrap();
+/// let v = |x: i32, y: i32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [g << 16, 0, 0] };
+/// draw_triangle::<Gray8, _, PerSpan, NoDepth, Gouraud>(&mut fb, [v(0, 0, 0), v(0, 16, 0), v(16, 0, 240)]);
+/// for row in px.chunks(16) {
+///     let lit: Vec<u8> = row.iter().copied().filter(|&p| p > 0).collect();
+///     assert!(lit.windows(2).all(|w| w[0] == w[1]));
+/// }
+/// ```
+pub trait SpanMethod {
+    /// Name used by the CLI and scene files.
+    const NAME: &'static str;
+    /// True if the method needs [`Span::edges`].
+    const EDGE_VALUES: bool;
+    /// True if the method moves vertices ([`SpanMethod::snap`] is not the identity).
+    const SNAPS: bool = false;
+    /// True if the method draws a triangle from its [`setup::Record`] alone
+    /// (the constant gradient with the exact setup), so a frame drawn in bands can
+    /// keep records instead of walking every triangle per band
+    /// ([`crate::render::Binned`]).
+    const RECORDS: bool = false;
+    /// Where the method puts a screen vertex before culling and setup (the snapped
+    /// Sierpinski variant moves vertices to even pixels). The identity by default.
+    #[inline(always)]
+    fn snap(v: ScreenVertex) -> ScreenVertex {
+        v
+    }
+    /// The divider of the triangle setup's one reciprocal (the determinant's, for
+    /// this method's setup and for the quadratic, Phong and adaptive fills a frame
+    /// draws with it): [`Exact`](crate::divide::Exact) for every method but [`span::WithDivide`], which names
+    /// its own.
+    type Divider: Divide;
+    /// Sets up a triangle for this method: [`setup::setup_div`] through
+    /// [`SpanMethod::Divider`] by default.
+    #[inline(always)]
+    fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
+        setup::setup_div::<Self::Divider>(v)
+    }
+    /// Per-triangle data of the method (lane offsets, multiples of the increment).
+    type Tri;
+    /// Computes the per-triangle data once, before the first span.
+    fn prepare(tri: &Setup) -> Self::Tri;
+    /// Fills `color` (exactly the span's pixels) and `depth` (the same pixels, or
+    /// empty with [`NoDepth`]).
+    fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading>(
+        color: &mut [P::Raw],
+        depth: &mut [impl DepthFormat],
+        span: &Span,
+        tri: &Setup,
+        data: &Self::Tri,
+    );
+    /// Rasterizes a set-up triangle. The default walks its edges and hands each span
+    /// to [`SpanMethod::fill`] ([`draw_setup`]); triangle-level methods such as
+    /// the Sierpinski subdivision override it.
+    fn draw<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        tri: &Setup,
+    ) -> u32
+    where
+        Self: Sized,
+    {
+        draw_setup::<P, T, Self, Z, Sh>(target, tri)
+    }
+    /// Sets up and rasterizes a triangle of screen vertices inside the guard band:
+    /// [`SpanMethod::setup`], then [`SpanMethod::draw`] (nothing for a zero-area
+    /// triangle). A method may fuse the two (the constant gradient does, without
+    /// copying the vertices into a [`Setup`]); the pixels are the same.
+    #[inline(always)]
+    fn draw_vertices<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
+        target: &mut T,
+        v: [&ScreenVertex; 3],
+    ) -> u32
+    where
+        Self: Sized,
+    {
+        // Drawn from inside the Option: moving the set-up triangle out of it would
+        // copy it (the setup is out of line on bare-metal targets).
+        match &Self::setup([*v[0], *v[1], *v[2]]) {
+            Some(s) => Self::draw::<P, T, Z, Sh>(target, s),
+            None => 0,
+        }
+    }
 }
 
 /// Attribute values along an edge for methods that want edge values: stepped with
@@ -223,7 +369,7 @@ where
     Sh: Shading,
 {
     if Z::TEST && !target.has_depth() {
-        return draw_setup::<P, T, S, span::NoDepth, Sh>(target, s);
+        return draw_setup::<P, T, S, NoDepth, Sh>(target, s);
     }
     let Some(rows) = row_range(s, target.rows()) else {
         return 0;
@@ -273,7 +419,7 @@ where
 /// span's first pixel (wrapping arithmetic, exact modulo 2³² like
 /// [`setup::Setup::at`]). Where the format's three channels fit one 64-bit register
 /// and the increments are unwrapped, the row values are kept packed
-/// ([`span::packed_channels`]: linear, so the packed lattice is the lattice packed,
+/// ([`pixel::packed_channels`]: linear, so the packed lattice is the lattice packed,
 /// and at covered pixels the lanes hold the channels); otherwise the spans go to
 /// [`span::write_run`].
 #[cfg_attr(not(target_os = "none"), inline(always))]
@@ -285,7 +431,7 @@ where
     Sh: Shading,
 {
     if Z::TEST && !target.has_depth() {
-        return fill_gradient::<P, T, span::NoDepth, Sh>(target, s);
+        return fill_gradient::<P, T, NoDepth, Sh>(target, s);
     }
     let [t, m, b] = s.xy;
     let rows = target.rows();
@@ -305,9 +451,9 @@ where
             .wrapping_add(dy0.wrapping_mul(gy[k]))
     });
     let packed = (
-        span::packed_channels::<P>(&base),
-        span::packed_channels::<P>(gx),
-        span::packed_channels::<P>(gy),
+        pixel::packed_channels::<P>(&base),
+        pixel::packed_channels::<P>(gx),
+        pixel::packed_channels::<P>(gy),
     );
     if let (Some(mut c_row), Some(pgx), Some(pgy), true, true) =
         (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
@@ -321,7 +467,7 @@ where
                     .wrapping_add((x.wrapping_mul((pgx >> 32) as u32) as u64) << 32);
                 let c = c_row.wrapping_add(step);
                 let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
-                span::write_packed::<P, Z>(color, depth, c, pgx, z, gzx);
+                pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx);
             }
             c_row = c_row.wrapping_add(pgy);
             z_row = z_row.wrapping_add(gzy);
@@ -331,7 +477,7 @@ where
     walk_rows::<P, T, Z>(target, s.xy, s.mid_left, rows, |span| {
         if let Some((color, depth, x0)) = span {
             let v = core::array::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
-            span::write_run::<P, Z, Sh>(color, depth, v, gx);
+            pixel::write_run::<P, Z, Sh>(color, depth, v, gx);
         }
         for k in 0..ATTRS {
             row[k] = row[k].wrapping_add(gy[k]);

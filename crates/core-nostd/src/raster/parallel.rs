@@ -16,9 +16,9 @@
 //! with shifts and at most one addition, as the seed prescribes.
 
 use super::setup::{Setup, ATTRS};
+use super::shading::Shading;
 use super::span::{pack_pixel, write_run, DepthMode, Span, SpanMethod};
 use crate::divide::Exact;
-use crate::shade::Shading;
 use crate::target::{DepthFormat, PixelFormat};
 
 #[inline(always)]

@@ -53,10 +53,11 @@
 
 use super::phong::{attrs, depth_pass, shade_pixel, PhongVertex, PixelLight, PA};
 use super::setup::{setup_with_det_div, Setup, ROUND_BIAS};
+use super::shading::Shading;
 use super::span::{pack_pixel, write_run, DepthMode, NoDepth};
-use super::{row_range, scan, ScreenVertex};
+use super::vertex::ScreenVertex;
+use super::{row_range, scan};
 use crate::divide::{wide_recip, Divide};
-use crate::shade::Shading;
 use crate::target::{PixelFormat, Target};
 
 /// Where the perspective division is taken: at every pixel, or at the ends of
@@ -372,7 +373,7 @@ where
     Sh: Shading,
     D: Divide,
 {
-    if super::outside_guard(v.map(|p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
+    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
         return 0;
     }
     if !Sh::INTERPOLATE {
@@ -524,7 +525,7 @@ where
     D: Divide,
     L: PixelLight,
 {
-    if super::outside_guard(v.map(|p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
+    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
         return 0;
     }
     let Some(p) = PhongSetup::new::<D>(v, w) else {

@@ -45,7 +45,8 @@
 use super::edge::first_row;
 use super::setup::{setup_with_det_div, Det, Setup, ROUND_BIAS};
 use super::span::DepthMode;
-use super::{row_range, scan, ScreenVertex};
+use super::vertex::ScreenVertex;
+use super::{row_range, scan};
 use crate::divide::{Divide, Exact};
 use crate::math::{normalize_to_q30, ONE_Q30};
 use crate::sampler::{fill_row, PixelFn, Threshold};
@@ -424,7 +425,7 @@ where
     D: Divide,
     L: PixelLight,
 {
-    if super::outside_guard(v.map(|p| (p.x, p.y))) {
+    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) {
         return (0, 0);
     }
     if Z::TEST && !target.has_depth() {

@@ -58,9 +58,10 @@
 use core::ops::Range;
 
 use super::edge::{first_row, EdgeStepper};
+use super::pixel::DepthMode;
 use super::setup::{setup_div, Setup};
-use super::span::DepthMode;
-use super::ScreenVertex;
+pub use super::shading::Fill;
+use super::vertex::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
 use crate::target::{DepthFormat, PixelFormat, Target};
 
@@ -305,32 +306,6 @@ fn add3(a: &mut [i64; 3], b: &[i64; 3]) {
     for k in 0..3 {
         a[k] = a[k].wrapping_add(b[k]);
     }
-}
-
-/// How the surface is filled.
-///
-/// ```
-/// use fixshade::raster::quadratic::{draw_quadratic, Fill};
-/// use fixshade::raster::span::NoDepth;
-/// use fixshade::raster::ScreenVertex;
-/// use fixshade::target::{Framebuffer, Gray8};
-/// let draw = |fill: Fill| {
-///     let mut px = [0u8; 32 * 32];
-///     let mut fb = Framebuffer::<Gray8>::new(&mut px, None, 32, 32).unwrap();
-///     let v = |x: i32, y: i32, g: i32| ScreenVertex { x: x * 16, y: y * 16, z: 0, c: [g << 16; 3] };
-///     let mid = [[200 << 16; 3], [120 << 16; 3], [60 << 16; 3]];
-///     draw_quadratic::<Gray8, _, NoDepth>(&mut fb, [v(1, 1, 10), v(3, 31, 90), v(30, 4, 250)], mid, fill);
-///     px
-/// };
-/// // The 2×2 block scheme of seed 003 and the row fill give the same pixels.
-/// assert_eq!(draw(Fill::Blocks), draw(Fill::Rows));
-/// ```
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub enum Fill {
-    /// Row by row, one forward-difference unit.
-    Rows,
-    /// Seed 003: 2×2 blocks over two scanlines, four units, stepping +2 rows.
-    Blocks,
 }
 
 /// Walks the rows of a set-up triangle within `rows`, calling `f(y, x0, x1)` for
@@ -631,7 +606,7 @@ pub fn draw_quadratic_div<P: PixelFormat, T: Target<P>, Z: DepthMode, D: Divide>
     mid: [[i32; 3]; 3],
     fill: Fill,
 ) -> u32 {
-    if super::outside_guard(v.map(|p| (p.x, p.y))) {
+    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) {
         return 0;
     }
     let (Some(s), Some(q)) = (setup_div::<D>(v), Quad::fit_div::<D>(v, mid)) else {

@@ -35,7 +35,7 @@
 //! within 1 of the exact one.
 
 use super::edge::first_row;
-use super::ScreenVertex;
+use super::vertex::ScreenVertex;
 use crate::divide::{wide_recip, Divide, Exact};
 use crate::math::{leading_zeros, mul_wide, recip_q61};
 

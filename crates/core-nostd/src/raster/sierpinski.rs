@@ -110,12 +110,13 @@
 
 use core::ops::Range;
 
+use super::draw_setup;
 use super::edge::{first_row, EdgeStepper};
 use super::setup::{self, Setup, ATTRS};
+use super::shading::Shading;
 use super::span::{write_run, DepthMode, Gradient, NoDepth, Span, SpanMethod};
-use super::{draw_setup, ScreenVertex, GUARD};
+use super::vertex::{ScreenVertex, GUARD};
 use crate::divide::Exact;
-use crate::shade::Shading;
 use crate::target::{DepthFormat, PixelFormat, Target};
 
 /// A point in Q12.4.

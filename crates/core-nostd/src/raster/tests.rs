@@ -823,7 +823,9 @@ fn u32_depth_resolves_what_u16_ties() {
     fn frame<S: SpanMethod, D: DepthFormat + Default + Clone>() -> Vec<u8> {
         let mut color = vec![0u8; 16 * 16];
         let mut depth = vec![D::FAR; 16 * 16];
-        let mut fb = Framebuffer::<Gray8, D>::new(&mut color, Some(&mut depth), 16, 16).unwrap();
+        let mut fb =
+            Framebuffer::<Gray8, D>::with_depth_format(&mut color, Some(&mut depth), 16, 16)
+                .unwrap();
         let v = |x: i32, y: i32, g: i32, z: u32| ScreenVertex {
             x: x * 16,
             y: y * 16,

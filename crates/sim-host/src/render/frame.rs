@@ -225,7 +225,7 @@ fn bands_with<P: PixelFormat, C: DepthFormat>(
     let mut y0 = 0;
     while y0 < h {
         let hh = rows.min(h - y0);
-        let mut strip = Strip::<Covered<P>, C>::new(
+        let mut strip = Strip::<Covered<P>, C>::with_depth_format(
             &mut band,
             d.depth_test.then_some(&mut depth[..]),
             w,
@@ -315,7 +315,7 @@ fn time_as<P: PixelFormat, Sp: Lighting>(
         let frame = pipeline.prepare(&scene, w, h, &mut cache)?;
         let stats = if pipeline.depth32() {
             let depth = d.depth_test.then_some(&mut depth32[..]);
-            let mut fb = Strip::<Covered<P>, u32>::new(&mut color, depth, w, h, 0, h)
+            let mut fb = Strip::<Covered<P>, u32>::with_depth_format(&mut color, depth, w, h, 0, h)
                 .map_err(|e| e.to_string())?;
             pipeline.draw(&frame, DepthStrip::D32(&mut fb))?
         } else {
