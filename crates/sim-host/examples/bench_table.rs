@@ -41,6 +41,7 @@ use std::time::Instant;
 use fixshade::eg::CoveredPixel;
 use fixshade::fixed::Angle;
 use fixshade::target::Strip;
+use fixshade_sim::render::dispatch::DepthStrip;
 use fixshade_sim::render::{host::HostSpecular, Pipeline};
 use fixshade_sim::scene::builtin;
 use fixshade_sim::scene::convert::core_scene;
@@ -169,7 +170,11 @@ fn main() {
                     let mut fb = Strip::new(&mut color, Some(&mut depth), w, h, 0, h).unwrap();
                     let t = Instant::now();
                     let frame = rows[k].prepare(&scene, w, h, &mut cache).expect("prepare");
-                    let st = std::hint::black_box(rows[k].draw(&frame, &mut fb).expect("draw"));
+                    let st = std::hint::black_box(
+                        rows[k]
+                            .draw(&frame, DepthStrip::D16(&mut fb))
+                            .expect("draw"),
+                    );
                     let ns = t.elapsed().as_nanos() as f64;
                     if round >= WARMUP_ROUNDS {
                         times[k].push(ns);
