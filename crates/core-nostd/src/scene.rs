@@ -171,6 +171,10 @@ pub struct Object<'a> {
     pub placement: Placement,
     /// Material.
     pub material: Material,
+    /// The material of its back faces under two-sided lighting
+    /// ([`crate::effects::TwoSided`]); `None`: [`Object::material`] on both sides
+    /// (OpenGL's `GL_FRONT_AND_BACK`). One-sided lighting never reads it.
+    pub back_material: Option<Material>,
 }
 
 /// A scene's fixed capacity (8 lights, 16 objects) is exhausted.

@@ -213,7 +213,7 @@ fn scene_src(s: &Scene<'_>) -> String {
         let p = &o.placement;
         let _ = writeln!(
             f,
-            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n    }});",
+            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n        back_material: {},\n    }});",
             v3(&p.translate),
             p.rotate
                 .iter()
@@ -221,6 +221,9 @@ fn scene_src(s: &Scene<'_>) -> String {
                 .collect::<Vec<_>>()
                 .join(", "),
             q(p.scale),
+            o.back_material
+                .as_ref()
+                .map_or_else(|| "None".to_string(), |m| format!("Some({})", material_src(m))),
         );
     }
     f.push_str("    Ok(s)\n}\n");

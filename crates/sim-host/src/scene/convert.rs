@@ -104,6 +104,7 @@ pub fn quantize_scene(d: &SceneDesc) -> SceneDesc {
         o.rotate_deg = o.rotate_deg.map(qa);
         o.scale = f16(q16(o.scale));
         o.material = quantize_material(&o.material);
+        o.back_material = o.back_material.as_ref().map(quantize_material);
     }
     q
 }
@@ -252,6 +253,7 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
                 scale: q16(o.scale),
             },
             material: material(&o.material),
+            back_material: o.back_material.as_ref().map(material),
         })
         .map_err(|_| "more than 16 objects".to_string())?;
     }
