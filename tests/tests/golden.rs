@@ -1,5 +1,5 @@
 //! Golden images: the fixed-point render of each figure, and of the catalogue
-//! scenes of users' OBJ models ([`CATALOGUE_SCENES`]), must equal the committed
+//! scenes of users' OBJ models and two-sided lighting ([`CATALOGUE_SCENES`]), must equal the committed
 //! `tests/golden/NAME.png` exactly, pixels and coverage (the coverage mask travels
 //! in the PNG's `fixshade:coverage` chunk).
 //!
@@ -13,9 +13,14 @@ use fixshade_sim::scene::load::{load_arg, LoadedScene};
 use fixshade_tests::*;
 
 /// Scenes of the hard-case catalogue (`tests/catalogue/scenes/NAME.toml`) with
-/// golden images: OBJ `vn` normals (flat faces), recomputed normals (smooth) and
-/// MTL materials.
-const CATALOGUE_SCENES: [&str; 3] = ["obj-cube-vn", "obj-cube-no-vn", "obj-mtl"];
+/// golden images: OBJ `vn` normals (flat faces), recomputed normals (smooth), MTL
+/// materials, and two-sided lighting of the inside of a sphere.
+const CATALOGUE_SCENES: [&str; 4] = [
+    "obj-cube-vn",
+    "obj-cube-no-vn",
+    "obj-mtl",
+    "inside-sphere-two-sided",
+];
 
 /// Every scene with a golden image: the figures, then [`CATALOGUE_SCENES`].
 fn golden_scenes() -> Vec<(&'static str, LoadedScene)> {
