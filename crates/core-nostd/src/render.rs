@@ -696,7 +696,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
                 let back_light = LightingSetup::<Sp>::new(
                     &scene.lights,
                     &view,
-                    obj.back_material.as_ref().unwrap_or(&obj.material),
+                    obj.back_material.unwrap_or(&obj.material),
                     scene.global_ambient,
                     scene.local_viewer,
                 );
@@ -782,7 +782,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         LightingSetup::<Sp>::new(
             &self.scene.lights,
             view,
-            obj.back_material.as_ref().unwrap_or(&obj.material),
+            obj.back_material.unwrap_or(&obj.material),
             self.scene.global_ambient,
             self.scene.local_viewer,
         )
@@ -1794,12 +1794,13 @@ mod tests {
         ];
         let mut backs = 0;
         for round in 0..40 {
-            let (pos, nrm, tris) = random_mesh(&mut seed);
-            let mut scene = random_scene(&mut seed, &pos, &nrm, &tris);
-            scene.objects[0].back_material = Some(Material {
+            let back = Material {
                 diffuse: [Q16_16::from_ratio(1, 3), Q16_16::ONE, Q16_16::ZERO],
                 ..Material::default()
-            });
+            };
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let mut scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            scene.objects[0].back_material = Some(&back);
             scene.shading = shadings[round % shadings.len()];
             let n = scene.vertex_count();
             let mut one = std::vec![XfVertex::default(); n];

@@ -351,10 +351,10 @@ impl<'a> Object<'a> {
     /// use fixshade::prelude::{rgb, Material, Object};
     /// # let mesh = fixshade::doc_support::triangle().unwrap();
     /// let inside = Material::default().with_diffuse(rgb(200, 40, 40));
-    /// let obj = Object::new(mesh).with_back_material(inside);
-    /// assert_eq!(obj.back_material, Some(inside));
+    /// let obj = Object::new(mesh).with_back_material(&inside);
+    /// assert_eq!(obj.back_material, Some(&inside));
     /// ```
-    pub fn with_back_material(mut self, material: Material) -> Object<'a> {
+    pub fn with_back_material(mut self, material: &'a Material) -> Object<'a> {
         self.back_material = Some(material);
         self
     }

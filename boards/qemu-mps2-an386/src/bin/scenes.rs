@@ -6,7 +6,9 @@
 //! shading set, as the host renders them; and, for the cases with a perspective
 //! camera, twice more in Gouraud shading with perspective-correct colours
 //! (`Frame::draw_perspective` with `exact`, every pixel and sub-spans of 16: span
-//! names `perspective-1`, `perspective-16`). Frames go to the host files
+//! names `perspective-1`, `perspective-16`). A case with two-sided lighting is drawn
+//! the same way with frames lit two-sided (`fixshade::effects::TwoSided`), except in
+//! adaptive shading, which does not support it. Frames go to the host files
 //! `<case>-<shading>-<span>.rgb565` (see `fixshade_boards_common::scenes`);
 //! `cargo xtask qemu` builds it (`--features scenes --bin fixshade-mps2-scenes`)
 //! and compares every byte with the host.
@@ -15,12 +17,14 @@
 
 use cortex_m_rt::{entry, exception};
 use fixshade::divide::Exact;
+use fixshade::effects::TwoSided;
+use fixshade::light::{BlinnExact, Specular};
 use fixshade::raster::perspective::Perspective;
 use fixshade::render::{Frame, XfVertex};
-use fixshade::scene::{Projection, ShadingMode};
+use fixshade::scene::{Projection, Scene, ShadingMode};
 use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
-use fixshade_boards_common::{cases, Counter, SceneSettings};
+use fixshade_boards_common::{cases_lit, Counter, SceneSettings};
 use semihosting::io::Write as _;
 
 /// The baked cases.
@@ -37,7 +41,8 @@ const ICOUNT_SHIFT: u32 = 10;
 
 /// Pixels of the framebuffer: the largest case (4095 × 6).
 const PIXELS: usize = 4096 * 6;
-/// Vertices of the vertex cache: the largest case's scene (3010).
+/// Vertices of the vertex cache: the largest case's scene (3010); a two-sided case
+/// takes two entries a vertex.
 const VERTICES: usize = 3072;
 
 /// The shading modes, in the host's order (`fixshade list`).
@@ -82,7 +87,8 @@ fn run() -> Result<(), &'static str> {
     for case in &baked::CASES {
         let (w, h) = (case.width, case.height);
         let n = (w * h) as usize;
-        if n > PIXELS || case.vertices > VERTICES {
+        let sides = if case.two_sided { 2 } else { 1 };
+        if n > PIXELS || sides * case.vertices > VERTICES {
             return Err("a case larger than the image's buffers");
         }
         let mut scene = (case.scene)().map_err(|_| "baked mesh rejected")?;
@@ -98,53 +104,42 @@ fn run() -> Result<(), &'static str> {
             h,
         )
         .map_err(|_| "framebuffer")?;
-        let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>>();
-        for shading in SHADINGS {
-            scene.shading = shading;
-            for (span, draw) in &table {
-                if scenes::ignores_span(shading) && *span != "gradient" {
-                    continue;
-                }
-                fb.clear(bg);
-                let (frame, prepare) =
-                    counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
-                let frame = frame.map_err(|_| "prepare failed")?;
-                let (stats, cost) = counter.measure(|| draw(&frame, &mut fb));
-                let mut log = SceneLog {
-                    width: w,
-                    height: h,
-                    prepare,
-                    draw: cost,
-                    ..SceneLog::default()
-                };
-                log.add(stats)?;
-                let mut name = [0u8; 96];
-                let mut f = semihosting::fs::File::create(file_name(
-                    &mut name,
-                    case.name,
-                    shading_name(shading),
-                    span,
-                ))
-                .map_err(|_| "cannot create the frame file")?;
-                f.write_all(as_bytes(fb.color()))
-                    .map_err(|_| "cannot write the frame file")?;
-                log.write(BOARD, case.name, shading_name(shading), span);
+        if case.two_sided {
+            draw_case::<TwoSided<BlinnExact>>(case, &mut scene, &mut fb, bg, cache, &mut counter)?;
+        } else {
+            draw_case::<BlinnExact>(case, &mut scene, &mut fb, bg, cache, &mut counter)?;
+        }
+    }
+    Ok(())
+}
+
+/// Draws case `case` lit with `Sp` into `fb` with every shading mode and span
+/// method (see the module docs), each frame to its host file.
+fn draw_case<Sp: Specular>(
+    case: &baked::SceneCase,
+    scene: &mut Scene<'static>,
+    fb: &mut Framebuffer<'_, Rgb565Le>,
+    bg: u16,
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    let (w, h) = (case.width, case.height);
+    let table = cases_lit::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le>, Sp>();
+    for shading in SHADINGS {
+        scene.shading = shading;
+        for (span, draw) in &table {
+            if scenes::ignores_span(shading) && *span != "gradient" {
+                continue;
             }
-        }
-        if !matches!(scene.camera.projection, Projection::Perspective { .. }) {
-            continue;
-        }
-        scene.shading = ShadingMode::Gouraud;
-        for (span, mode) in [
-            ("perspective-1", Perspective::PER_PIXEL),
-            ("perspective-16", Perspective::SUB16),
-        ] {
+            // Adaptive shading does not support two-sided lighting.
+            if Sp::TWO_SIDED && shading == ShadingMode::Adaptive {
+                continue;
+            }
             fb.clear(bg);
-            let (frame, prepare) =
-                counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
+            let (frame, prepare) = counter
+                .measure(|| Frame::<Rgb565Le>::prepare_with::<Sp>(scene, w, h, &mut cache[..]));
             let frame = frame.map_err(|_| "prepare failed")?;
-            let (stats, cost) =
-                counter.measure(|| frame.draw_perspective::<Exact, _>(&mut fb, mode));
+            let (stats, cost) = counter.measure(|| draw(&frame, &mut *fb));
             let mut log = SceneLog {
                 width: w,
                 height: h,
@@ -154,13 +149,45 @@ fn run() -> Result<(), &'static str> {
             };
             log.add(stats)?;
             let mut name = [0u8; 96];
-            let mut f =
-                semihosting::fs::File::create(file_name(&mut name, case.name, "gouraud", span))
-                    .map_err(|_| "cannot create the frame file")?;
+            let mut f = semihosting::fs::File::create(file_name(
+                &mut name,
+                case.name,
+                shading_name(shading),
+                span,
+            ))
+            .map_err(|_| "cannot create the frame file")?;
             f.write_all(as_bytes(fb.color()))
                 .map_err(|_| "cannot write the frame file")?;
-            log.write(BOARD, case.name, "gouraud", span);
+            log.write(BOARD, case.name, shading_name(shading), span);
         }
+    }
+    if !matches!(scene.camera.projection, Projection::Perspective { .. }) {
+        return Ok(());
+    }
+    scene.shading = ShadingMode::Gouraud;
+    for (span, mode) in [
+        ("perspective-1", Perspective::PER_PIXEL),
+        ("perspective-16", Perspective::SUB16),
+    ] {
+        fb.clear(bg);
+        let (frame, prepare) =
+            counter.measure(|| Frame::<Rgb565Le>::prepare_with::<Sp>(scene, w, h, &mut cache[..]));
+        let frame = frame.map_err(|_| "prepare failed")?;
+        let (stats, cost) = counter.measure(|| frame.draw_perspective::<Exact, _>(&mut *fb, mode));
+        let mut log = SceneLog {
+            width: w,
+            height: h,
+            prepare,
+            draw: cost,
+            ..SceneLog::default()
+        };
+        log.add(stats)?;
+        let mut name = [0u8; 96];
+        let mut f = semihosting::fs::File::create(file_name(&mut name, case.name, "gouraud", span))
+            .map_err(|_| "cannot create the frame file")?;
+        f.write_all(as_bytes(fb.color()))
+            .map_err(|_| "cannot write the frame file")?;
+        log.write(BOARD, case.name, "gouraud", span);
     }
     Ok(())
 }
