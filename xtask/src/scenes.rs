@@ -440,6 +440,10 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
                 let why = match *why {
                     "ram" => "one row with its depth row does not fit the board's strip buffers",
                     "flash" => "its baked mesh does not fit the image's flash with the code",
+                    "ram-two-sided" => {
+                        "two-sided lighting's back colours double the vertex cache, more \
+                         than the RAM the stack leaves"
+                    }
                     w => w,
                 };
                 let _ = writeln!(md, "- {board}: {name} ({why})");

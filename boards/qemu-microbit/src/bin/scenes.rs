@@ -193,7 +193,7 @@ fn run() -> Result<(), &'static str> {
     // Logged by the first image only.
     if !cfg!(any(feature = "scenes-b", feature = "scenes-guard")) {
         scenes::skip(BOARD, "framebuffer-4095-wide", "ram");
-        scenes::skip(BOARD, "camera-inside-two-sided", "ram");
+        scenes::skip(BOARD, "camera-inside-two-sided", "ram-two-sided");
     }
     for case in CASES {
         if case.max_chunk_vertices > CACHE_VERTICES || case.width as usize > STRIP_PIXELS {
