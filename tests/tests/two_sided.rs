@@ -56,6 +56,25 @@ fn inside_of_a_sphere_is_lit_two_sided_as_the_reference() {
     }
 }
 
+/// The same with perspective-correct colours (Gouraud) and normals and positions
+/// (Phong), against the perspective-correct reference.
+#[test]
+fn inside_of_a_sphere_two_sided_perspective_correct() {
+    for shading in [ShadingName::GOURAUD, ShadingName::PHONG] {
+        let mut ls = inside(true, shading);
+        ls.desc.perspective_correct = true;
+        let img = core(&ls);
+        let c = compare(&reference::matching_reference(&ls), &img).unwrap();
+        eprintln!(
+            "{} perspective-correct: NMSE {:.3e}",
+            shading.name(),
+            c.nmse
+        );
+        assert_eq!(c.coverage_mismatch, 0, "{}", shading.name());
+        assert!(c.nmse <= 1e-5, "{}: NMSE {}", shading.name(), c.nmse);
+    }
+}
+
 /// Without two-sided lighting the inside faces are lit with their outward
 /// normals, away from the light inside: ambient only, far darker than two-sided,
 /// and far from the two-sided reference.
