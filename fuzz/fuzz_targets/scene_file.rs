@@ -1,10 +1,15 @@
 //! The scene-file parser on arbitrary text; a scene that parses is then converted
 //! to the core's scene (over a small fixed mesh per object) and its vertex stage,
 //! clipper and rasterizer run into one-row strips at the top, middle and bottom of
-//! its frame, with the depth cells its `depth_bits` asks for. Asserted: no panic; errors name the file and a line inside it.
+//! its frame, with two-sided lighting when the scene asks for it
+//! (`two_sided = true`) and the depth cells its `depth_bits` asks for. Asserted: no
+//! panic; errors name the file and a line inside it.
 #![no_main]
 
+use fixshade::effects::TwoSided;
+use fixshade::light::Specular;
 use fixshade::render::{Frame, XfVertex};
+use fixshade::scene::Scene;
 use fixshade::target::{Rgb888, Strip};
 use fixshade_sim::scene::convert::{core_scene, quantize_scene, FixedMesh};
 use fixshade_sim::scene::desc::MeshData;
@@ -48,8 +53,18 @@ fuzz_target!(|data: &[u8]| {
     let Ok(scene) = core_scene(&d, &meshes) else {
         return;
     };
-    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
-    let Ok(frame) = Frame::<Rgb888>::prepare(&scene, d.width, d.height, &mut cache) else {
+    if d.two_sided {
+        draw::<TwoSided>(&scene, &d);
+    } else {
+        draw::<fixshade::light::BlinnExact>(&scene, &d);
+    }
+});
+
+/// Prepares and draws `scene` lit with `Sp` into three one-row strips.
+fn draw<Sp: Specular>(scene: &Scene<'_>, d: &fixshade_sim::scene::desc::SceneDesc) {
+    let mut cache = vec![XfVertex::default(); Frame::<Rgb888, Sp>::cache_len(scene)];
+    let Ok(frame) = Frame::<Rgb888>::prepare_with::<Sp>(scene, d.width, d.height, &mut cache)
+    else {
         return;
     };
     let w = d.width as usize;
@@ -59,9 +74,15 @@ fuzz_target!(|data: &[u8]| {
     for y0 in [0, d.height / 2, d.height - 1] {
         // The depth cells the scene asks for (`depth_bits`).
         if d.depth_bits == 32 {
-            let mut strip =
-                Strip::<Rgb888, u32>::with_depth_format(&mut color, Some(&mut depth32), d.width, d.height, y0, 1)
-                    .expect("one-row strip");
+            let mut strip = Strip::<Rgb888, u32>::with_depth_format(
+                &mut color,
+                Some(&mut depth32),
+                d.width,
+                d.height,
+                y0,
+                1,
+            )
+            .expect("one-row strip");
             let _ = with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip));
         } else {
             let mut strip =
@@ -70,4 +91,4 @@ fuzz_target!(|data: &[u8]| {
             let _ = with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip));
         }
     }
-});
+}

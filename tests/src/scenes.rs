@@ -53,6 +53,8 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
                  /// Every object's chunks, in the scene's object order.\n    pub objects: &'static [&'static [Chunk]],\n    \
                  /// Vertices in the largest chunk.\n    pub max_chunk_vertices: usize,\n    \
                  /// Vertices of the scene (the whole-mesh vertex cache).\n    pub vertices: usize,\n    \
+                 /// Two-sided lighting (`fixshade::effects::TwoSided`; the vertex cache\n    \
+                 /// then holds twice the vertices).\n    pub two_sided: bool,\n    \
                  /// The scene, each object with the mesh of its first chunk.\n    pub scene: fn() -> Result<Scene<'static>, MeshError>,\n    \
                  /// True if the scene asks for 32-bit depth cells (`depth_bits = 32`).\n    pub depth32: bool,\n\
              }}\n\n",
@@ -77,10 +79,12 @@ pub fn bake_cases(cases: &[SceneCase]) -> Result<Vec<(String, String)>, String> 
                 consts,
                 "/// `{}`.\npub const {}: SceneCase = SceneCase {{\n    name: \"{}\",\n    width: {m}::WIDTH,\n    height: {m}::HEIGHT,\n    \
                  background: {m}::BACKGROUND,\n    objects: &{m}::OBJECTS,\n    \
-                 max_chunk_vertices: {m}::MAX_CHUNK_VERTICES,\n    vertices: {vertices},\n    scene: {m}::scene,\n    depth32: {},\n}};",
+                 max_chunk_vertices: {m}::MAX_CHUNK_VERTICES,\n    vertices: {vertices},\n    \
+                 two_sided: {},\n    scene: {m}::scene,\n    depth32: {},\n}};",
                 case.name,
                 m.to_uppercase(),
                 case.name,
+                ls.desc.two_sided,
                 ls.desc.depth_test && ls.desc.depth_bits == 32
             );
             let _ = writeln!(table, "    {},", m.to_uppercase());

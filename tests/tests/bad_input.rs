@@ -97,6 +97,7 @@ fn scene_with(mesh: Mesh<'_>) -> Scene<'_> {
         mesh,
         placement: Placement::default(),
         material: Material::default(),
+        back_material: None,
     })
     .unwrap();
     s
@@ -247,6 +248,7 @@ fn frames_that_do_not_fit_are_errors() {
             ..Placement::default()
         },
         material: Material::default(),
+        back_material: None,
     })
     .unwrap();
     assert_eq!(

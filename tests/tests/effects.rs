@@ -159,6 +159,41 @@ fn local_viewer_without_specular_is_off() {
     assert!(derive(&with).local_viewer.value);
 }
 
+/// Two-sided lighting: off unless the scene asks; off when back faces are culled
+/// (none is drawn to show it) and when unlit without a back material (both sides
+/// alike): the derived frame keeps the pixels. On otherwise, and then it shows.
+#[test]
+fn two_sided_lighting_follows_the_scene_and_culling() {
+    let off = derive(&scene(&format!("{CAMERA}{SPEC_LIGHT}{SPHERE}")));
+    assert!(!off.two_sided.value && off.two_sided.why.contains("two_sided = false"));
+    let culled = scene(&format!(
+        "[lighting]\ntwo_sided = true\n{CAMERA}{SPEC_LIGHT}{SPHERE}"
+    ));
+    let e = derive(&culled);
+    assert!(!e.two_sided.value && e.two_sided.why.contains("culled"));
+    same_pixels_as_written(&culled);
+    let unlit = scene(&format!(
+        "[render]\ncull = \"none\"\n[lighting]\ntwo_sided = true\n{CAMERA}{SPHERE}"
+    ));
+    let e = derive(&unlit);
+    assert!(!e.two_sided.value && e.two_sided.why.contains("unlit"));
+    same_pixels_as_written(&unlit);
+    // The eye inside the sphere: every face in view is a back face.
+    let inside = "[render]\ncull = \"none\"\n[lighting]\ntwo_sided = true\n\
+         [camera]\neye = [0, 0, 0]\ntarget = [0, 0, -1]\nnear = 0.05\n\
+         [[light]]\ntype = \"point\"\nposition = [0, 0, 0]\n\
+         [[object]]\nmesh = \"sphere\"\nscale = 3\n";
+    let on = scene(inside);
+    let e = derive(&on);
+    assert!(e.two_sided.value, "{}", e.two_sided.why);
+    same_pixels_as_written(&on);
+    let mut one = effects::apply(&on, &e);
+    one.desc.two_sided = false;
+    let lit = render::render(&effects::apply(&on, &e), None).unwrap();
+    let dark = render::render(&one, None).unwrap();
+    assert_ne!(lit.bytes, dark.bytes);
+}
+
 #[test]
 fn perspective_correction_follows_the_scene_and_the_shading() {
     let ortho = scene(&format!(
@@ -262,7 +297,7 @@ fn adaptive_matches_phong_on_the_figures_and_counts_what_paid() {
         let p = render::render(&phong, None).unwrap();
         let a = render::render(&adaptive, None).unwrap();
         let c = compare(&p.image, &a.image).unwrap();
-        let drawn = a.stats.triangles - a.stats.culled;
+        let drawn = a.stats.triangles - a.stats.skipped();
         println!(
             "{fig}: NMSE vs Phong {:.3e}, {} of {} polygons per pixel",
             c.nmse, a.stats.per_pixel, drawn

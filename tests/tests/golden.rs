@@ -1,5 +1,5 @@
 //! Golden images: the fixed-point render of each figure, and of the catalogue
-//! scenes of users' OBJ models ([`CATALOGUE_SCENES`]), must equal the committed
+//! scenes of users' OBJ models and two-sided lighting ([`CATALOGUE_SCENES`]), must equal the committed
 //! `tests/golden/NAME.png` exactly, pixels and coverage (the coverage mask travels
 //! in the PNG's `fixshade:coverage` chunk).
 //!
@@ -14,11 +14,13 @@ use fixshade_tests::*;
 
 /// Scenes of the hard-case catalogue (`tests/catalogue/scenes/NAME.toml`) with
 /// golden images: OBJ `vn` normals (flat faces), recomputed normals (smooth), MTL
-/// materials, and a closed model in 32-bit depth cells at near = 1e-4.
-const CATALOGUE_SCENES: [&str; 4] = [
+/// materials, two-sided lighting of the inside of a sphere, and a closed model in
+/// 32-bit depth cells at near = 1e-4.
+const CATALOGUE_SCENES: [&str; 5] = [
     "obj-cube-vn",
     "obj-cube-no-vn",
     "obj-mtl",
+    "inside-sphere-two-sided",
     "tiny-near-depth32",
 ];
 

@@ -151,6 +151,7 @@ fn quad_scene_render(normals: [[Q2_14; 3]; 4], n: i32) -> (Vec<[u8; 3]>, u32) {
             mesh,
             placement: Placement::default(),
             material,
+            back_material: None,
         })
         .unwrap();
     let (w, h) = (40, 30);

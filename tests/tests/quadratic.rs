@@ -262,6 +262,7 @@ fn clipped_triangles_fall_back_to_gouraud() {
             mesh,
             placement: Placement::default(),
             material: Material::default(),
+            back_material: None,
         })
         .unwrap();
     let mut cache = [XfVertex::default(); 3];

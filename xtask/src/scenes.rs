@@ -9,13 +9,16 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use fixshade::effects::TwoSided;
+use fixshade::light::{BlinnExact, Specular};
 use fixshade::render::{Frame, XfVertex};
+use fixshade::scene::Scene;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip};
 use fixshade_sim::render;
 use fixshade_sim::render::bake::chunks;
 use fixshade_sim::scene::convert::background_channels;
 use fixshade_sim::scene::convert::{core_scene, FixedMesh};
-use fixshade_sim::scene::desc::{FormatName, Named, ShadingName, SpanName};
+use fixshade_sim::scene::desc::{FormatName, Named, SceneDesc, ShadingName, SpanName};
 use fixshade_sim::scene::load::LoadedScene;
 use fixshade_tests::catalogue::scene_cases;
 
@@ -60,7 +63,8 @@ pub fn host_chunked(ls: &LoadedScene, limit: usize, rows: u32) -> Result<Vec<u8>
     let bgc = background_channels(d.format, d.background);
     let bg = Rgb565Le::pack(bgc[0], bgc[1], bgc[2]);
     let mut out = Vec::with_capacity(w as usize * h as usize * 2);
-    let mut cache = vec![XfVertex::default(); limit];
+    // Two-sided lighting keeps the back colours in a second half of the cache.
+    let mut cache = vec![XfVertex::default(); if d.two_sided { 2 * limit } else { limit }];
     let mut color = vec![bg; w as usize * rows as usize];
     let mut depth = vec![0xFFFFu16; w as usize * rows as usize];
     let mut y0 = 0;
@@ -78,10 +82,11 @@ pub fn host_chunked(ls: &LoadedScene, limit: usize, rows: u32) -> Result<Vec<u8>
         .map_err(|e| e.to_string())?;
         strip.clear(bg);
         for scene in &scenes {
-            let frame =
-                Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache).map_err(|e| e.to_string())?;
-            fixshade_sim::with_span_method!(d.span, S => frame.draw::<S, _>(&mut strip))
-                .map_err(|e| e.to_string())?;
+            if d.two_sided {
+                draw_chunk::<TwoSided>(scene, d, &mut strip, &mut cache)?;
+            } else {
+                draw_chunk::<BlinnExact>(scene, d, &mut strip, &mut cache)?;
+            }
         }
         out.extend(
             strip
@@ -92,6 +97,21 @@ pub fn host_chunked(ls: &LoadedScene, limit: usize, rows: u32) -> Result<Vec<u8>
         y0 += hh;
     }
     Ok(out)
+}
+
+/// The vertex stage of one chunk's `scene`, lit with `Sp`, drawn into `strip` with
+/// the span method of `d`.
+fn draw_chunk<Sp: Specular>(
+    scene: &Scene<'_>,
+    d: &SceneDesc,
+    strip: &mut Strip<'_, Rgb565Le>,
+    cache: &mut [XfVertex],
+) -> Result<(), String> {
+    let frame = Frame::<Rgb565Le>::prepare_with::<Sp>(scene, d.width, d.height, cache)
+        .map_err(|e| e.to_string())?;
+    fixshade_sim::with_span_method!(d.span, S => frame.draw::<S, _>(strip))
+        .map_err(|e| e.to_string())?;
+    Ok(())
 }
 
 /// The boards whose scene images draw perspective-correct Gouraud frames (span
@@ -420,6 +440,14 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
                 let why = match *why {
                     "ram" => "one row with its depth row does not fit the board's strip buffers",
                     "flash" => "its baked mesh does not fit the image's flash with the code",
+                    "ram-two-sided" => {
+                        "two-sided lighting's back colours double the vertex cache, more \
+                         than the RAM the stack leaves"
+                    }
+                    "flash-depth32" => {
+                        "the scene images carry the span methods for 16-bit depth cells \
+                         only; the same code for 32-bit cells does not fit the flash beside them"
+                    }
                     w => w,
                 };
                 let _ = writeln!(md, "- {board}: {name} ({why})");

@@ -24,6 +24,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use fixshade::divide::{Divide, Exact, ShiftAdd, ShiftAddRounded, Table};
+use fixshade::light::{BlinnExact, Specular};
 use fixshade::raster::perspective::Perspective;
 use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats};
@@ -209,14 +210,16 @@ pub fn mark_discard() {
     core::hint::black_box(0x5EED_0004u32);
 }
 
-/// Draws a prepared frame into a target with one span method.
-pub type DrawFn<P, T> = fn(&Frame<'_, '_, '_, P>, &mut T) -> Result<Stats, RenderError>;
+/// Draws a prepared frame (lit with `Sp`: one-sided exact Blinn unless named)
+/// into a target with one span method.
+pub type DrawFn<P, T, Sp = BlinnExact> =
+    fn(&Frame<'_, '_, '_, P, Sp>, &mut T) -> Result<Stats, RenderError>;
 
 /// How a case is drawn: the call into the core every case of a table shares.
 pub trait Mode {
     /// Draws `f` into `t` with span method `S`.
-    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
-        f: &Frame<'_, '_, '_, P>,
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>, Sp: Specular>(
+        f: &Frame<'_, '_, '_, P, Sp>,
         t: &mut T,
     ) -> Result<Stats, RenderError>;
     /// Draws `f` into `t` with perspective-correct colours, divider `D`.
@@ -231,8 +234,8 @@ pub trait Mode {
 pub struct SceneSettings;
 
 impl Mode for SceneSettings {
-    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
-        f: &Frame<'_, '_, '_, P>,
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>, Sp: Specular>(
+        f: &Frame<'_, '_, '_, P, Sp>,
         t: &mut T,
     ) -> Result<Stats, RenderError> {
         f.draw::<S, T>(t)
@@ -252,8 +255,8 @@ impl Mode for SceneSettings {
 pub struct Fixed<Z, Sh>(PhantomData<(Z, Sh)>);
 
 impl<Z: DepthMode, Sh: Shading> Mode for Fixed<Z, Sh> {
-    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>>(
-        f: &Frame<'_, '_, '_, P>,
+    fn run<S: SpanMethod, P: PixelFormat, T: Target<P>, Sp: Specular>(
+        f: &Frame<'_, '_, '_, P, Sp>,
         t: &mut T,
     ) -> Result<Stats, RenderError> {
         f.draw_with::<S, Z, Sh, T>(t)
@@ -267,11 +270,11 @@ impl<Z: DepthMode, Sh: Shading> Mode for Fixed<Z, Sh> {
     }
 }
 
-fn entry<S: SpanMethod, M: Mode, P: PixelFormat, T: Target<P>>(
-    f: &Frame<'_, '_, '_, P>,
+fn entry<S: SpanMethod, M: Mode, P: PixelFormat, T: Target<P>, Sp: Specular>(
+    f: &Frame<'_, '_, '_, P, Sp>,
     t: &mut T,
 ) -> Result<Stats, RenderError> {
-    M::run::<S, P, T>(f, t)
+    M::run::<S, P, T, Sp>(f, t)
 }
 
 /// Number of cases in [`cases`]: every span method of the core's registry.
@@ -281,8 +284,8 @@ pub const CASES: usize = fixshade::registry::SPAN_METHODS.len();
 /// cases: each named as the host names it (`fixshade render --span NAME`) and drawn
 /// by `entry` with the mode `M`.
 macro_rules! cases {
-    ([$M:ty, $P:ty, $T:ty] $($S:ty),* $(,)?) => {
-        [$((<$S as SpanMethod>::NAME, entry::<$S, $M, $P, $T> as DrawFn<$P, $T>)),*]
+    ([$M:ty, $P:ty, $T:ty, $Sp:ty] $($S:ty),* $(,)?) => {
+        [$((<$S as SpanMethod>::NAME, entry::<$S, $M, $P, $T, $Sp> as DrawFn<$P, $T, $Sp>)),*]
     };
 }
 
@@ -314,7 +317,14 @@ macro_rules! skip {
 
 /// Every span method, in the host's order (`fixshade list`), drawn by `M`.
 pub fn cases<M: Mode, P: PixelFormat, T: Target<P>>() -> [(&'static str, DrawFn<P, T>); CASES] {
-    fixshade::for_each_span_method!(cases[M, P, T])
+    fixshade::for_each_span_method!(cases[M, P, T, BlinnExact])
+}
+
+/// [`cases`] for frames lit with `Sp` (e.g. two-sided lighting,
+/// `fixshade::effects::TwoSided`).
+pub fn cases_lit<M: Mode, P: PixelFormat, T: Target<P>, Sp: Specular>(
+) -> [(&'static str, DrawFn<P, T, Sp>); CASES] {
+    fixshade::for_each_span_method!(cases[M, P, T, Sp])
 }
 
 /// Span methods in each third of [`cases`] ([`cases_first`], [`cases_second`],
@@ -326,19 +336,19 @@ const _: () = assert!(3 * THIRD_CASES == CASES);
 /// The first [`THIRD_CASES`] span methods of [`cases`].
 pub fn cases_first<M: Mode, P: PixelFormat, T: Target<P>>(
 ) -> [(&'static str, DrawFn<P, T>); THIRD_CASES] {
-    fixshade::for_each_span_method!(take[cases [M, P, T] [x x x x x]])
+    fixshade::for_each_span_method!(take[cases [M, P, T, BlinnExact] [x x x x x]])
 }
 
 /// The next [`THIRD_CASES`] span methods of [`cases`].
 pub fn cases_second<M: Mode, P: PixelFormat, T: Target<P>>(
 ) -> [(&'static str, DrawFn<P, T>); THIRD_CASES] {
-    fixshade::for_each_span_method!(skip[take [cases [M, P, T] [x x x x x]] [x x x x x]])
+    fixshade::for_each_span_method!(skip[take [cases [M, P, T, BlinnExact] [x x x x x]] [x x x x x]])
 }
 
 /// The last [`THIRD_CASES`] span methods of [`cases`].
 pub fn cases_third<M: Mode, P: PixelFormat, T: Target<P>>(
 ) -> [(&'static str, DrawFn<P, T>); THIRD_CASES] {
-    fixshade::for_each_span_method!(skip[cases [M, P, T] [x x x x x x x x x x]])
+    fixshade::for_each_span_method!(skip[cases [M, P, T, BlinnExact] [x x x x x x x x x x]])
 }
 
 /// Number of cases in [`divider_cases`].
@@ -371,12 +381,12 @@ macro_rules! divider_cases {
                 const _: () = assert!(same(<$D>::NAME, $name), "divider name");
                 (
                     concat!("classic@", $name),
-                    entry::<WithDivide<Classic<$D>, $D>, $M, $P, $T> as DrawFn<$P, $T>,
+                    entry::<WithDivide<Classic<$D>, $D>, $M, $P, $T, BlinnExact> as DrawFn<$P, $T>,
                 )
             },
             (
                 concat!("gradient@", $name),
-                entry::<WithDivide<Gradient, $D>, $M, $P, $T> as DrawFn<$P, $T>,
+                entry::<WithDivide<Gradient, $D>, $M, $P, $T, BlinnExact> as DrawFn<$P, $T>,
             ),
         )*]
     };
@@ -520,7 +530,10 @@ pub fn perspective_cases<M: Mode, P: PixelFormat, T: Target<P>>(
 ) -> [(&'static str, DrawFn<P, T>); PERSPECTIVE_CASES] {
     const _: () = assert!(same(<ShiftAdd<8>>::NAME, "shift-add-8"), "divider name");
     [
-        ("affine@exact", entry::<Gradient, M, P, T> as DrawFn<P, T>),
+        (
+            "affine@exact",
+            entry::<Gradient, M, P, T, BlinnExact> as DrawFn<P, T>,
+        ),
         (
             "perspective-1@exact",
             perspective_entry::<Exact, 1, M, P, T>,

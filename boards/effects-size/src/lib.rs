@@ -64,6 +64,7 @@ pub fn scene(spin: i32) -> Scene<'static> {
         mesh,
         placement,
         material,
+        back_material: None,
     });
     s
 }

@@ -236,9 +236,15 @@ fn run() -> Result<(), &'static str> {
     let _ = writeln!(Console, "LAYOUT {BOARD} {name} {rows} {}", fig::CHUNK_LIMIT);
     let bg = Rgb565Le::pack(fig::BACKGROUND[0], fig::BACKGROUND[1], fig::BACKGROUND[2]);
     let n = (w * rows) as usize;
-    let mut strip =
-        Strip::<Rgb565Le, fig::Depth>::with_depth_format(&mut color[..n], Some(&mut depth[..n]), w, h, 0, rows)
-            .map_err(|_| "strip")?;
+    let mut strip = Strip::<Rgb565Le, fig::Depth>::with_depth_format(
+        &mut color[..n],
+        Some(&mut depth[..n]),
+        w,
+        h,
+        0,
+        rows,
+    )
+    .map_err(|_| "strip")?;
     // The built-in scenes test depth and shade Gouraud: the draw call `Frame::draw`
     // makes for them, with only that code in flash.
     if !scene.depth_test || scene.shading != ShadingMode::Gouraud {

@@ -273,9 +273,13 @@ fn run() -> Result<(), &'static str> {
             if n > depth32.len() {
                 return Err("32-bit depth for frames up to 320 x 240 only");
             }
-            let mut fb =
-                Framebuffer::<Rgb565Le, u32>::with_depth_format(&mut color[..n], Some(&mut depth32[..n]), w, h)
-                    .map_err(|_| "framebuffer")?;
+            let mut fb = Framebuffer::<Rgb565Le, u32>::with_depth_format(
+                &mut color[..n],
+                Some(&mut depth32[..n]),
+                w,
+                h,
+            )
+            .map_err(|_| "framebuffer")?;
             draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
             continue;
         }

@@ -91,9 +91,11 @@ impl Format for Stats {
     fn format(&self, f: Formatter<'_>) {
         write!(
             f,
-            "Stats {{ triangles: {=u32}, culled: {=u32}, clipped: {=u32}, drawn: {=u32}, pixels: {=u32}, fallback: {=u32}, per_pixel: {=u32}, evaluations: {=u32} }}",
+            "Stats {{ triangles: {=u32}, culled: {=u32}, degenerate: {=u32}, outside: {=u32}, clipped: {=u32}, drawn: {=u32}, pixels: {=u32}, fallback: {=u32}, per_pixel: {=u32}, evaluations: {=u32} }}",
             self.triangles,
             self.culled,
+            self.degenerate,
+            self.outside,
             self.clipped,
             self.drawn,
             self.pixels,
@@ -117,6 +119,7 @@ impl Format for RenderError {
                 write!(f, "SingularModel {{ object: {=usize} }}", object)
             }
             RenderError::TargetSizeMismatch => write!(f, "TargetSizeMismatch"),
+            RenderError::TwoSidedUnsupported => write!(f, "TwoSidedUnsupported"),
             RenderError::NoDepthBuffer => write!(f, "NoDepthBuffer"),
         }
     }

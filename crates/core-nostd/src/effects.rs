@@ -11,6 +11,8 @@
 //! | shading | flat, Gouraud, quadratic, Phong, adaptive | [`crate::shade`] |
 //! | span filling | classic, gradient, parallel, … | [`crate::raster::span::SpanMethod`] |
 //!
+//! | two-sided lighting | off, on | any [`Specular`] model; [`TwoSided`] of one |
+//!
 //! Back-face culling and the local viewer stay run-time flags of the
 //! [`crate::scene::Scene`]: each costs one branch per triangle or per vertex.
 //! A frame lit without a specular term and drawn with Gouraud shading and no depth
@@ -48,7 +50,7 @@
 //! let white = [Q16_16::ONE; 3];
 //! scene.add_light(Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white)).unwrap();
 //! let mesh = Mesh::new(&POS, &NRM, &TRI).unwrap();
-//! scene.add_object(Object { mesh, placement: Placement::default(), material: Material::default() }).unwrap();
+//! scene.add_object(Object { mesh, placement: Placement::default(), material: Material::default(), back_material: None }).unwrap();
 //!
 //! let mut color = [0u16; 32 * 24];
 //! let mut cache = [XfVertex::default(); 3];
@@ -57,6 +59,8 @@
 //! let stats = frame.draw_with::<Gradient, NoDepth, Gouraud, _>(&mut fb).unwrap();
 //! assert_eq!(stats.drawn, 1);
 //! ```
+
+use core::marker::PhantomData;
 
 use crate::fixed::Q16_16;
 pub use crate::light::Specular;
@@ -90,5 +94,69 @@ impl Specular for NoSpecular {
     #[inline]
     fn eval(_: &(), _: i32) -> i32 {
         0
+    }
+}
+
+/// Two-sided lighting (OpenGL's `GL_LIGHT_MODEL_TWO_SIDE`) with the specular model
+/// `Sp`: a triangle whose screen winding makes it a back face (the sign test of
+/// back-face culling) is lit with its vertex normals negated and its object's
+/// [`crate::scene::Object::back_material`] (the front material when it has none).
+///
+/// A frame prepared with it ([`crate::render::Frame::prepare_with`]) lights every
+/// needed vertex twice, front and back; the second half of the vertex cache holds
+/// the back colours, so the cache takes twice [`crate::scene::Scene::vertex_count`]
+/// entries. Flat and Gouraud shading pick the front or back colours per triangle;
+/// quadratic and Phong shading negate the normals they interpolate on back faces.
+/// Adaptive shading does not support it: its draws return
+/// [`crate::render::RenderError::TwoSidedUnsupported`]. A frame of one-sided
+/// lighting (any other model) compiles none of this: the choice is the constant
+/// [`Specular::TWO_SIDED`].
+///
+/// ```
+/// use fixshade::effects::TwoSided;
+/// use fixshade::light::BlinnExact;
+/// use fixshade::prelude::*;
+/// # let mut scene = fixshade::doc_support::scene();
+/// // Seen from behind the triangle is a back face: culling off, it is drawn.
+/// scene.camera.eye[2] = -scene.camera.eye[2];
+/// scene.cull_back = false;
+/// let draw = |two_sided: bool| {
+///     let mut cache = [XfVertex::default(); 6];
+///     let (mut px, mut z) = ([0u8; 16 * 16], [0xFFFFu16; 16 * 16]);
+///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 16, 16).unwrap();
+///     if two_sided {
+///         let frame =
+///             Frame::<Gray8>::prepare_with::<TwoSided<BlinnExact>>(&scene, 16, 16, &mut cache)
+///                 .unwrap();
+///         frame.draw::<Gradient, _>(&mut fb).unwrap();
+///     } else {
+///         let frame = Frame::<Gray8>::prepare(&scene, 16, 16, &mut cache).unwrap();
+///         frame.draw::<Gradient, _>(&mut fb).unwrap();
+///     }
+///     px[8 * 16 + 8]
+/// };
+/// // The light shines on the front. One-sided, the back face is lit with the
+/// // front's normal, as if it faced the light; two-sided, its normal faces away
+/// // from the light and only the ambient term is left.
+/// assert!(draw(true) < draw(false));
+/// ```
+#[derive(Copy, Clone, Debug, Default)]
+pub struct TwoSided<Sp: Specular = crate::light::BlinnExact>(PhantomData<Sp>);
+
+impl<Sp: Specular> Specular for TwoSided<Sp> {
+    const ENABLED: bool = Sp::ENABLED;
+    const TWO_SIDED: bool = true;
+    type Params = Sp::Params;
+    #[inline]
+    fn prepare(n: Q16_16) -> Sp::Params {
+        Sp::prepare(n)
+    }
+    #[inline]
+    fn eval(p: &Sp::Params, c: i32) -> i32 {
+        Sp::eval(p, c)
+    }
+    #[inline]
+    fn eval_wide(p: &Sp::Params, c: i32) -> u64 {
+        Sp::eval_wide(p, c)
     }
 }

@@ -166,6 +166,10 @@ pub trait Specular {
     /// ([`crate::effects::NoSpecular`]): lighting then compiles without the half
     /// vector, the power and the specular sums.
     const ENABLED: bool = true;
+    /// True for two-sided lighting ([`crate::effects::TwoSided`]): the vertex stage
+    /// also lights every vertex with its negated normal and the back material, and
+    /// back faces draw with those colours. False for every plain model.
+    const TWO_SIDED: bool = false;
     /// Per-material data derived from n once per frame (a table lookup, a reciprocal).
     type Params: Copy;
     /// Prepares the parameters for exponent `n` (already clamped to 1..=1000).

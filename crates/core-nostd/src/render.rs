@@ -38,7 +38,7 @@
 //! scene.add_light(Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white)).unwrap();
 //! let mesh = Mesh::new(&POS, &NRM, &TRI).unwrap();
 //! scene
-//!     .add_object(Object { mesh, placement: Placement::default(), material: Material::default() })
+//!     .add_object(Object { mesh, placement: Placement::default(), material: Material::default(), back_material: None })
 //!     .unwrap();
 //!
 //! let (w, h) = (32, 24);
@@ -104,11 +104,22 @@ pub const OUTSIDE: u8 = 1;
 /// Flag: some triangle that may be drawn uses the vertex, so it was lit.
 pub const NEEDED: u8 = 2;
 
+/// Why a triangle is not drawn.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum Skip {
+    /// A back face, culled.
+    Back,
+    /// Zero area after snapping to the subpixel grid.
+    Degenerate,
+    /// Entirely off the frame rows or columns the target holds.
+    Outside,
+}
+
 /// What to do with a triangle.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 enum Class {
     /// Culled, zero-area, or entirely off the frame rows/columns.
-    Skip,
+    Skip(Skip),
     /// All vertices inside the guard band: rasterize directly.
     Draw,
     /// Some vertex outside: clip first.
@@ -136,8 +147,11 @@ fn classify_refs(
     }
     let (a, b, c) = (t[0].s, t[1].s, t[2].s);
     let area = crate::clip::signed_area((a.x, a.y), (b.x, b.y), (c.x, c.y));
-    if area == 0 || (cull && area > 0) {
-        return Class::Skip;
+    if area == 0 {
+        return Class::Skip(Skip::Degenerate);
+    }
+    if cull && area > 0 {
+        return Class::Skip(Skip::Back);
     }
     // Pixel centres at 16k + 8: a triangle whose max coordinate is below the first
     // centre, or whose min coordinate is past the last, covers nothing.
@@ -148,7 +162,7 @@ fn classify_refs(
         || y_max < 16 * rows.start + 8
         || y_min > 16 * rows.end - 8
     {
-        return Class::Skip;
+        return Class::Skip(Skip::Outside);
     }
     Class::Draw
 }
@@ -234,6 +248,38 @@ fn light_needed<P: PixelFormat, Sp: Specular>(
         let at = if position { aff.point(p) } else { [0; 3] };
         o.s.c = to_channels::<P>(light.shade(at, unit));
     }
+}
+
+/// The vertex stage's step 3 for the back faces of two-sided lighting
+/// ([`crate::effects::TwoSided`]): the colour of every vertex that `front` marks
+/// [`NEEDED`], lit with the negated eye-space normal (components within ±2³⁰ in
+/// Q2.30, so the negation cannot overflow) and `light`, the back material's setup;
+/// written to `back`'s colours.
+#[inline(never)]
+fn light_back<P: PixelFormat, Sp: Specular>(
+    back: &mut [XfVertex],
+    front: &[XfVertex],
+    pos: &[Vec3],
+    nrm: &[[crate::fixed::Q2_14; 3]],
+    aff: &Affine3,
+    light: &LightingSetup<Sp>,
+) {
+    let position = light.needs_position();
+    for (((b, f), p), n) in back.iter_mut().zip(front).zip(pos).zip(nrm) {
+        if f.flags & NEEDED == 0 {
+            continue;
+        }
+        let unit = eye_normal(aff, n).map(|c| -c);
+        let at = if position { aff.point(p) } else { [0; 3] };
+        b.s.c = to_channels::<P>(light.shade(at, unit));
+    }
+}
+
+/// True if the screen triangle `t` is a back face: the sign test of back-face
+/// culling ([`classify_refs`]: positive area with y down).
+#[inline(always)]
+fn is_back(t: [&ScreenVertex; 3]) -> bool {
+    crate::clip::signed_area((t[0].x, t[0].y), (t[1].x, t[1].y), (t[2].x, t[2].y)) > 0
 }
 
 /// A cache entry for a projected vertex, or an [`OUTSIDE`] one.
@@ -340,6 +386,9 @@ pub enum RenderError {
     TargetSizeMismatch,
     /// The scene asks for a depth test but the target has no depth buffer.
     NoDepthBuffer,
+    /// Two-sided lighting ([`crate::effects::TwoSided`]) with adaptive shading,
+    /// which does not support it.
+    TwoSidedUnsupported,
 }
 
 impl core::fmt::Display for RenderError {
@@ -365,6 +414,10 @@ impl core::fmt::Display for RenderError {
             RenderError::NoDepthBuffer => {
                 f.write_str("the scene uses the depth test but the target has no depth buffer")
             }
+            RenderError::TwoSidedUnsupported => f.write_str(
+                "two-sided lighting is not supported with adaptive shading \
+                 (use phong, gouraud, flat or quadratic)",
+            ),
         }
     }
 }
@@ -385,8 +438,12 @@ impl core::fmt::Display for RenderError {
 pub struct Stats {
     /// Triangles submitted.
     pub triangles: u32,
-    /// Dropped as back faces, zero area, or outside the target.
+    /// Back faces dropped by back-face culling (0 without culling).
     pub culled: u32,
+    /// Dropped for zero area after snapping to the subpixel grid.
+    pub degenerate: u32,
+    /// Dropped for lying entirely outside the rows and columns of the target.
+    pub outside: u32,
     /// Went through the clipper.
     pub clipped: u32,
     /// Triangles rasterized (after clipping, fans count once per piece).
@@ -408,10 +465,36 @@ pub struct Stats {
     pub rewalked: u32,
 }
 
+impl Stats {
+    /// Triangles dropped before rasterizing, for any reason: culled back faces,
+    /// zero area, outside the target.
+    ///
+    /// ```
+    /// use fixshade::render::Stats;
+    /// let st = Stats { triangles: 10, culled: 4, degenerate: 1, outside: 2, drawn: 3, ..Stats::default() };
+    /// assert_eq!(st.skipped(), 7);
+    /// ```
+    pub fn skipped(&self) -> u32 {
+        self.culled + self.degenerate + self.outside
+    }
+
+    /// Counts a triangle skipped for `why`.
+    #[inline]
+    fn skip(&mut self, why: Skip) {
+        match why {
+            Skip::Back => self.culled += 1,
+            Skip::Degenerate => self.degenerate += 1,
+            Skip::Outside => self.outside += 1,
+        }
+    }
+}
+
 impl core::ops::AddAssign for Stats {
     fn add_assign(&mut self, o: Stats) {
         self.triangles += o.triangles;
         self.culled += o.culled;
+        self.degenerate += o.degenerate;
+        self.outside += o.outside;
         self.clipped += o.clipped;
         self.drawn += o.drawn;
         self.pixels += o.pixels;
@@ -500,6 +583,9 @@ fn object_transform(
 pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
     scene: &'s Scene<'a>,
     cache: &'c [XfVertex],
+    /// Where the back colours of two-sided lighting start in the cache (the scene's
+    /// vertex count; unused by one-sided lighting).
+    back: usize,
     /// Each object's first vertex in the cache.
     offsets: heapless::Vec<usize, MAX_OBJECTS>,
     /// The frame's view and projection matrices (for [`Prepared::clip`]).
@@ -531,7 +617,9 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
         if width == 0 || width > 4096 || height == 0 || height > 4096 {
             return Err(RenderError::BadSize);
         }
-        let needed = scene.vertex_count();
+        // Two-sided lighting keeps the back colours in a second half of the cache.
+        let count = scene.vertex_count();
+        let needed = Frame::<P, Sp>::cache_len(scene);
         if cache.len() < needed {
             return Err(RenderError::CacheTooSmall { needed });
         }
@@ -559,6 +647,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             Projector::new(vp, &proj, depth_range, reach).ok_or(RenderError::BadProjection)?;
         let mut offsets = heapless::Vec::new();
         let mut offset = 0;
+        let (front, back) = cache.split_at_mut(count);
         for (i, obj) in scene.objects.iter().enumerate() {
             let mv = view.mul(&obj.placement.matrix());
             let clip = object_transform(&mv, &proj, &proj_map, obj)
@@ -573,7 +662,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
                 scene.local_viewer,
             );
             let mesh = &obj.mesh;
-            let out = &mut cache[offset..offset + mesh.positions().len()];
+            let out = &mut front[offset..offset + mesh.positions().len()];
             // 1. Transform and project every vertex once.
             let pos = mesh.positions();
             use crate::math::PositionShift as Sh;
@@ -601,6 +690,19 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             }
             // 3. Light the vertices that are needed, in eye space.
             light_needed::<P, Sp>(out, pos, mesh.normals(), &aff, &light);
+            if Sp::TWO_SIDED {
+                // 4. Two-sided: the same vertices with the negated normal and the
+                //    back material (the front material when the object has none).
+                let back_light = LightingSetup::<Sp>::new(
+                    &scene.lights,
+                    &view,
+                    obj.back_material.unwrap_or(&obj.material),
+                    scene.global_ambient,
+                    scene.local_viewer,
+                );
+                let b = &mut back[offset..offset + pos.len()];
+                light_back::<P, Sp>(b, out, pos, mesh.normals(), &aff, &back_light);
+            }
             // Capacity equals the scene's object capacity.
             let _ = offsets.push(offset);
             offset += mesh.positions().len();
@@ -608,6 +710,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
         Ok(Frame {
             scene,
             cache,
+            back: count,
             offsets,
             view,
             proj,
@@ -618,6 +721,25 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
 }
 
 impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
+    /// The vertex cache entries a frame of `scene` needs: one per vertex
+    /// ([`Scene::vertex_count`]), twice that under two-sided lighting
+    /// ([`crate::effects::TwoSided`], whose back colours take the second half).
+    ///
+    /// ```
+    /// use fixshade::effects::TwoSided;
+    /// use fixshade::prelude::*;
+    /// # let scene = fixshade::doc_support::scene();
+    /// assert_eq!(Frame::<Gray8>::cache_len(&scene), 3);
+    /// assert_eq!(Frame::<Gray8, TwoSided>::cache_len(&scene), 6);
+    /// ```
+    pub fn cache_len(scene: &Scene<'_>) -> usize {
+        if Sp::TWO_SIDED {
+            2 * scene.vertex_count()
+        } else {
+            scene.vertex_count()
+        }
+    }
+
     /// Every object with what its draw needs of the vertex stage.
     fn prepared(&self) -> impl Iterator<Item = (&'s Object<'a>, Prepared<'_>)> + '_ {
         let scene: &'s Scene<'a> = self.scene;
@@ -638,6 +760,32 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     },
                 )
             })
+    }
+
+    /// The cache entries of an object's `n` vertices from `offset`, front and back:
+    /// the back entries hold the back colours of two-sided lighting; one-sided,
+    /// they are the front entries again.
+    #[inline(always)]
+    fn sides(&self, offset: usize, n: usize) -> (&[XfVertex], &[XfVertex]) {
+        let front = &self.cache[offset..offset + n];
+        if Sp::TWO_SIDED {
+            let b = self.back + offset;
+            (front, &self.cache[b..b + n])
+        } else {
+            (front, front)
+        }
+    }
+
+    /// An object's lighting setup for its back faces under two-sided lighting: the
+    /// back material, or the front one when it has none.
+    fn back_lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
+        LightingSetup::<Sp>::new(
+            &self.scene.lights,
+            view,
+            obj.back_material.unwrap_or(&obj.material),
+            self.scene.global_ambient,
+            self.scene.local_viewer,
+        )
     }
 
     /// Builds an object's lighting setup for this frame's specular model.
@@ -710,17 +858,19 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let cull = self.scene.cull_back;
         let rows = target.rows();
         for (obj, prep) in self.prepared() {
-            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             let pos = obj.mesh.positions();
+            let (verts, backs) = self.sides(prep.offset, pos.len());
             for tri in obj.mesh.triangles() {
                 st.triangles += 1;
+                // The back colours (two-sided lighting; one-sided, the same vertices).
+                let b = tri.map(|i| &backs[i as usize]);
                 if !S::SNAPS {
                     // The usual path: the three vertices are read in place.
                     let t = tri.map(|i| &verts[i as usize]);
                     let class = classify_refs(t, cull, &self.vp, rows.clone());
                     self.draw_classified::<S, Z, Sh, T>(
                         target,
-                        t,
+                        (t, b),
                         class,
                         (pos, tri, &prep),
                         &mut st,
@@ -735,8 +885,8 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 // on its neighbours or on the target's rows.
                 let mut t = tri.map(|i| verts[i as usize]);
                 let whole = 0..self.vp.height as i32;
-                if classify(&t, cull, &self.vp, whole) == Class::Skip {
-                    st.culled += 1;
+                if let Class::Skip(why) = classify(&t, cull, &self.vp, whole) {
+                    st.skip(why);
                     continue;
                 }
                 for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
@@ -744,29 +894,39 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 }
                 let class = classify(&t, cull, &self.vp, rows.clone());
                 let t = [&t[0], &t[1], &t[2]];
-                self.draw_classified::<S, Z, Sh, T>(target, t, class, (pos, tri, &prep), &mut st);
+                self.draw_classified::<S, Z, Sh, T>(
+                    target,
+                    (t, b),
+                    class,
+                    (pos, tri, &prep),
+                    &mut st,
+                );
             }
         }
         Ok(st)
     }
 
     /// Draws one triangle of [`Frame::draw_with`] as classified: `t` its vertices
-    /// (snapped for a method that snaps), `tri` its indices into the object's
-    /// positions `pos` (clipping transforms them again). Flat shading takes the last
-    /// vertex's colour. A triangle classified inside the guard band goes to the setup
+    /// (snapped for a method that snaps) and `b` its back colours (two-sided
+    /// lighting; otherwise unused), `tri` its indices into the object's positions
+    /// `pos` (clipping transforms them again). Flat shading takes the last vertex's
+    /// colour. A triangle classified inside the guard band goes to the setup
     /// directly; snapped vertices are tested again, since snapping moves them.
     #[inline(always)]
     fn draw_classified<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
         &self,
         target: &mut T,
-        t: [&XfVertex; 3],
+        (t, b): ([&XfVertex; 3], [&XfVertex; 3]),
         class: Class,
         (pos, tri, prep): (&[Vec3], &[u16; 3], &Prepared<'_>),
         st: &mut Stats,
     ) {
-        let colour = |k: usize| if Sh::INTERPOLATE { t[k].s.c } else { t[2].s.c };
+        // Two-sided lighting: a back face takes the back colours.
+        let back = Sp::TWO_SIDED && class == Class::Draw && is_back([&t[0].s, &t[1].s, &t[2].s]);
+        let pick = |v: [&XfVertex; 3], k: usize| if Sh::INTERPOLATE { v[k].s.c } else { v[2].s.c };
+        let colour = |k: usize| if back { pick(b, k) } else { pick(t, k) };
         match class {
-            Class::Skip => st.culled += 1,
+            Class::Skip(why) => st.skip(why),
             Class::Draw => {
                 st.drawn += 1;
                 st.pixels += if S::SNAPS {
@@ -775,7 +935,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                         ..t[k].s
                     });
                     draw_triangle::<P, T, S, Z, Sh>(target, s)
-                } else if Sh::INTERPOLATE {
+                } else if Sh::INTERPOLATE && !back {
                     // The cached vertices as they are: no copy.
                     draw_in_guard::<P, T, S, Z, Sh>(target, [&t[0].s, &t[1].s, &t[2].s])
                 } else {
@@ -785,6 +945,19 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     });
                     draw_in_guard::<P, T, S, Z, Sh>(target, [&s[0], &s[1], &s[2]])
                 };
+            }
+            Class::Clip if Sp::TWO_SIDED => {
+                st.clipped += 1;
+                let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                    let (f, r) = (pick(t, k), pick(b, k));
+                    ClipVertex {
+                        pos: prep.clip().transform(&pos[tri[k] as usize]),
+                        c: [f[0], f[1], f[2], r[0], r[1], r[2]],
+                    }
+                });
+                self.clip_fan_sided(cv, self.scene.cull_back, st, |tri, _| {
+                    draw_triangle::<P, T, S, Z, Sh>(target, tri)
+                });
             }
             Class::Clip => {
                 st.clipped += 1;
@@ -847,47 +1020,82 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         for (i, (obj, prep)) in self.prepared().enumerate() {
             let mv = view.mul(&obj.placement.matrix());
             let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
-            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            let (verts, backs) = self.sides(prep.offset, obj.mesh.positions().len());
             let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
             let nm = &aff.normal;
             let light = self.lighting(obj, &view);
+            // Two-sided lighting: back faces take the back colours at the vertices
+            // and light their midpoints with the negated normal and the back material.
+            let back_light = if Sp::TWO_SIDED {
+                Some(self.back_lighting(obj, &view))
+            } else {
+                None
+            };
             {
-                let shade = |p: [i32; 3], n: [i32; 3]| light.shade(p, n);
-                // The colour lit at the midpoint of the edge a–b.
-                let mid = |a: usize, b: usize, ca: [i32; 3], cb: [i32; 3]| -> [i32; 3] {
-                    let m: Vec3 = core::array::from_fn(|k| {
-                        Q16_16::from_bits(
-                            ((pos[a][k].to_bits() as i64 + pos[b][k].to_bits() as i64) >> 1) as i32,
-                        )
-                    });
-                    let n: [i64; 3] = core::array::from_fn(|k| {
-                        nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64
-                    });
-                    // Entries < 2^31, components < 2^16: sums of three < 2^49.
-                    let ne: [i64; 3] = core::array::from_fn(|r| {
-                        nm[r][0] as i64 * n[0] + nm[r][1] as i64 * n[1] + nm[r][2] as i64 * n[2]
-                    });
-                    match normalize_to_q30(ne) {
-                        Some(unit) => to_channels::<P>(shade(aff.point(&m), unit)),
-                        // Opposite normals: no midpoint normal, average the colours.
-                        None => {
-                            core::array::from_fn(|k| ((ca[k] as i64 + cb[k] as i64) >> 1) as i32)
-                        }
-                    }
+                let shade = |p: [i32; 3], n: [i32; 3], back: bool| match (&back_light, back) {
+                    // Q2.30 components within ±2³⁰: the negation cannot overflow.
+                    (Some(b), true) => b.shade(p, n.map(|c| -c)),
+                    _ => light.shade(p, n),
                 };
+                // The colour lit at the midpoint of the edge a–b.
+                let mid =
+                    |a: usize, b: usize, ca: [i32; 3], cb: [i32; 3], back: bool| -> [i32; 3] {
+                        let m: Vec3 = core::array::from_fn(|k| {
+                            Q16_16::from_bits(
+                                ((pos[a][k].to_bits() as i64 + pos[b][k].to_bits() as i64) >> 1)
+                                    as i32,
+                            )
+                        });
+                        let n: [i64; 3] = core::array::from_fn(|k| {
+                            nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64
+                        });
+                        // Entries < 2^31, components < 2^16: sums of three < 2^49.
+                        let ne: [i64; 3] = core::array::from_fn(|r| {
+                            nm[r][0] as i64 * n[0] + nm[r][1] as i64 * n[1] + nm[r][2] as i64 * n[2]
+                        });
+                        match normalize_to_q30(ne) {
+                            Some(unit) => to_channels::<P>(shade(aff.point(&m), unit, back)),
+                            // Opposite normals: no midpoint normal, average the colours.
+                            None => core::array::from_fn(|k| {
+                                ((ca[k] as i64 + cb[k] as i64) >> 1) as i32
+                            }),
+                        }
+                    };
                 for tri in obj.mesh.triangles() {
                     st.triangles += 1;
                     let t = tri.map(|i| verts[i as usize]);
-                    let s = [t[0].s, t[1].s, t[2].s];
+                    let mut s = [t[0].s, t[1].s, t[2].s];
                     match classify(&t, cull, &self.vp, rows.clone()) {
-                        Class::Skip => st.culled += 1,
+                        Class::Skip(why) => st.skip(why),
                         Class::Draw => {
+                            let back = Sp::TWO_SIDED && is_back([&s[0], &s[1], &s[2]]);
+                            if back {
+                                for (v, i) in s.iter_mut().zip(tri) {
+                                    v.c = backs[*i as usize].s.c;
+                                }
+                            }
                             let m = core::array::from_fn(|k| {
                                 let (a, b) = (k, (k + 1) % 3);
-                                mid(tri[a] as usize, tri[b] as usize, s[a].c, s[b].c)
+                                mid(tri[a] as usize, tri[b] as usize, s[a].c, s[b].c, back)
                             });
                             st.drawn += 1;
                             st.pixels += draw_quadratic_div::<P, T, Z, D>(target, s, m, Sh::FILL);
+                        }
+                        Class::Clip if Sp::TWO_SIDED => {
+                            st.clipped += 1;
+                            st.fallback += 1;
+                            let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                                let (f, r) = (s[k].c, backs[tri[k] as usize].s.c);
+                                ClipVertex {
+                                    pos: prep.clip().transform(&pos[tri[k] as usize]),
+                                    c: [f[0], f[1], f[2], r[0], r[1], r[2]],
+                                }
+                            });
+                            self.clip_fan_sided(cv, cull, &mut st, |tri, _| {
+                                draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(
+                                    target, tri,
+                                )
+                            });
                         }
                         Class::Clip => {
                             st.clipped += 1;
@@ -951,6 +1159,18 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             let mv = view.mul(&obj.placement.matrix());
             let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
             let light = self.lighting(obj, &view);
+            // Two-sided lighting: back faces lit with the back material's setup and
+            // the interpolated normal negated (the vertex normals negated: Q2.30
+            // components within ±2³⁰, no overflow; the fill renormalises).
+            let back_light = if Sp::TWO_SIDED {
+                Some(self.back_lighting(obj, &view))
+            } else {
+                None
+            };
+            let facing = |back: bool| match (&back_light, back) {
+                (Some(b), true) => (b, -1),
+                _ => (&light, 1),
+            };
             let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
             let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
             // Eye-space unit normal and position of mesh vertex `i`.
@@ -961,8 +1181,10 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 st.triangles += 1;
                 let t = tri.map(|i| verts[i as usize]);
                 match classify(&t, cull, &self.vp, rows.clone()) {
-                    Class::Skip => st.culled += 1,
+                    Class::Skip(why) => st.skip(why),
                     Class::Draw => {
+                        let back = Sp::TWO_SIDED && is_back([&t[0].s, &t[1].s, &t[2].s]);
+                        let (light, sign) = facing(back);
                         let pv = core::array::from_fn(|k| {
                             let (n, p) = eye(tri[k] as usize);
                             let s = t[k].s;
@@ -970,13 +1192,17 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                                 x: s.x,
                                 y: s.y,
                                 z: s.z,
-                                n,
+                                n: if Sp::TWO_SIDED {
+                                    n.map(|c| sign * c)
+                                } else {
+                                    n
+                                },
                                 p,
                             }
                         });
                         st.drawn += 1;
                         let w = clip_w(persp, prep.clip(), pos, *tri);
-                        let (px, ev) = draw(target, pv, w, &light);
+                        let (px, ev) = draw(target, pv, w, light);
                         st.pixels += px;
                         st.evaluations += ev;
                     }
@@ -1011,14 +1237,21 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                             };
                         }
                         for k in 1..poly.len.saturating_sub(1) {
-                            let tri = [pv[0], pv[k], pv[k + 1]];
+                            let mut tri = [pv[0], pv[k], pv[k + 1]];
                             let pts = tri.map(|v| (v.x, v.y));
                             let area = crate::clip::signed_area(pts[0], pts[1], pts[2]);
-                            if area == 0 || (cull && !is_front(pts[0], pts[1], pts[2])) {
+                            let front = is_front(pts[0], pts[1], pts[2]);
+                            if area == 0 || (cull && !front) {
                                 continue;
                             }
+                            let (light, sign) = facing(Sp::TWO_SIDED && !front);
+                            if Sp::TWO_SIDED {
+                                for v in tri.iter_mut() {
+                                    v.n = v.n.map(|c| sign * c);
+                                }
+                            }
                             st.drawn += 1;
-                            let (px, ev) = draw(target, tri, [pw[0], pw[k], pw[k + 1]], &light);
+                            let (px, ev) = draw(target, tri, [pw[0], pw[k], pw[k + 1]], light);
                             st.pixels += px;
                             st.evaluations += ev;
                         }
@@ -1049,6 +1282,40 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         t: [ClipVertex; 3],
         cull: bool,
         st: &mut Stats,
+        draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
+    ) {
+        self.clip_fan_with(t, cull, st, |c, _| *c, draw);
+    }
+
+    /// [`Frame::clip_fan`] for two-sided lighting: each vertex carries its front
+    /// colour and then its back colour, and each triangle of the fan is drawn with
+    /// the colours of its facing (the same sign test as culling).
+    fn clip_fan_sided(
+        &self,
+        t: [ClipVertex<6>; 3],
+        cull: bool,
+        st: &mut Stats,
+        draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
+    ) {
+        let pick = |c: &[i32; 6], front: bool| {
+            if front {
+                [c[0], c[1], c[2]]
+            } else {
+                [c[3], c[4], c[5]]
+            }
+        };
+        self.clip_fan_with(t, cull, st, pick, draw);
+    }
+
+    /// [`Frame::clip_fan`] with `N` attributes a vertex, of which `pick` makes the
+    /// colour of a fan triangle's vertex given whether the triangle faces front.
+    #[inline(always)]
+    fn clip_fan_with<const N: usize>(
+        &self,
+        t: [ClipVertex<N>; 3],
+        cull: bool,
+        st: &mut Stats,
+        pick: impl Fn(&[i32; N], bool) -> [i32; 3],
         mut draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
     ) {
         let poly = clip_triangle(t, &self.vp);
@@ -1062,11 +1329,11 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
                 return;
             };
-            *o = ScreenVertex { x, y, z, c: v.c };
+            *o = ScreenVertex { x, y, z, c: [0; 3] };
             *ow = v.pos[3];
         }
         for i in 1..poly.len.saturating_sub(1) {
-            let tri = [sv[0], sv[i], sv[i + 1]];
+            let mut tri = [sv[0], sv[i], sv[i + 1]];
             let front = is_front(
                 (tri[0].x, tri[0].y),
                 (tri[1].x, tri[1].y),
@@ -1079,6 +1346,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             );
             if area == 0 || (cull && !front) {
                 continue;
+            }
+            for (v, k) in tri.iter_mut().zip([0, i, i + 1]) {
+                v.c = pick(&poly.v[k].c, front);
             }
             st.drawn += 1;
             st.pixels += draw(tri, [w[0], w[i], w[i + 1]]);
@@ -1197,19 +1467,38 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         let rows = target.rows();
         for (obj, prep) in self.prepared() {
             let pos = obj.mesh.positions();
-            let verts = &self.cache[prep.offset..prep.offset + pos.len()];
+            let (verts, backs) = self.sides(prep.offset, pos.len());
             for tri in obj.mesh.triangles() {
                 st.triangles += 1;
                 let t = tri.map(|i| verts[i as usize]);
-                let s = [t[0].s, t[1].s, t[2].s];
+                let mut s = [t[0].s, t[1].s, t[2].s];
                 match classify(&t, cull, &self.vp, rows.clone()) {
-                    Class::Skip => st.culled += 1,
+                    Class::Skip(why) => st.skip(why),
                     Class::Draw => {
                         st.drawn += 1;
+                        // Two-sided lighting: a back face takes the back colours.
+                        if Sp::TWO_SIDED && is_back([&s[0], &s[1], &s[2]]) {
+                            for (v, i) in s.iter_mut().zip(tri) {
+                                v.c = backs[*i as usize].s.c;
+                            }
+                        }
                         // Clip-space w, recomputed: the vertex cache keeps none.
                         let w = tri.map(|i| prep.clip().transform(&pos[i as usize])[3]);
                         st.pixels +=
                             draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, mode);
+                    }
+                    Class::Clip if Sp::TWO_SIDED => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                            let (f, r) = (s[k].c, backs[tri[k] as usize].s.c);
+                            ClipVertex {
+                                pos: prep.clip().transform(&pos[tri[k] as usize]),
+                                c: [f[0], f[1], f[2], r[0], r[1], r[2]],
+                            }
+                        });
+                        self.clip_fan_sided(cv, cull, &mut st, |tri, w| {
+                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, tri, w, mode)
+                        });
                     }
                     Class::Clip => {
                         st.clipped += 1;
@@ -1319,7 +1608,10 @@ mod tests {
                 let mut want = verts;
                 for tri in &tris {
                     let t = tri.map(|i| &verts[i as usize]);
-                    if classify_refs(t, cull, &vp, 0..vp.height as i32) != Class::Skip {
+                    if !matches!(
+                        classify_refs(t, cull, &vp, 0..vp.height as i32),
+                        Class::Skip(_)
+                    ) {
                         for i in tri {
                             want[*i as usize].flags |= NEEDED;
                         }
@@ -1418,6 +1710,7 @@ mod tests {
             mesh,
             placement,
             material: mat,
+            back_material: None,
         });
         scene
     }
@@ -1479,6 +1772,70 @@ mod tests {
             }
         }
         assert!(inside > 10_000 && outside > 1_000, "{inside} {outside}");
+    }
+
+    /// Two-sided lighting: the front half of the vertex cache is the one-sided
+    /// vertex stage's, the back half holds every needed vertex lit with its
+    /// negated normal and the back material; with back faces culled, every shading
+    /// draws the one-sided pixels.
+    #[test]
+    fn two_sided_vertex_stage_and_culled_frames() {
+        use crate::effects::TwoSided;
+        use crate::fixed::Q16_16;
+        use crate::light::Material;
+        use crate::target::{Framebuffer, Rgb888};
+        let mut seed = 0x2515_1dedu64;
+        let (w, h) = (96u32, 72u32);
+        let shadings = [
+            ShadingMode::Gouraud,
+            ShadingMode::Flat,
+            ShadingMode::Phong,
+            ShadingMode::Quadratic,
+        ];
+        let mut backs = 0;
+        for round in 0..40 {
+            let back = Material {
+                diffuse: [Q16_16::from_ratio(1, 3), Q16_16::ONE, Q16_16::ZERO],
+                ..Material::default()
+            };
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let mut scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            scene.objects[0].back_material = Some(&back);
+            scene.shading = shadings[round % shadings.len()];
+            let n = scene.vertex_count();
+            let mut one = std::vec![XfVertex::default(); n];
+            let mut two = std::vec![XfVertex::default(); 2 * n];
+            let f1 = Frame::<Rgb888>::prepare(&scene, w, h, &mut one).unwrap();
+            let f2 = Frame::<Rgb888>::prepare_with::<TwoSided>(&scene, w, h, &mut two).unwrap();
+            assert_eq!(&f2.cache[..n], f1.cache);
+            let view = scene.camera.view().unwrap();
+            let obj = &scene.objects[0];
+            let aff = Affine3::new(&view.mul(&obj.placement.matrix())).unwrap();
+            let light = f2.back_lighting(obj, &view);
+            for ((v, b), (p, nn)) in f2.cache[..n]
+                .iter()
+                .zip(&f2.cache[n..])
+                .zip(pos.iter().zip(nrm.iter()))
+            {
+                if v.flags & NEEDED == 0 {
+                    continue;
+                }
+                let unit = eye_normal(&aff, nn).map(|c| -c);
+                let want = to_channels::<Rgb888>(light.shade(aff.point(p), unit));
+                assert_eq!(b.s.c, want);
+                backs += 1;
+            }
+            let draw = |frame: &dyn Fn(&mut Framebuffer<'_, Rgb888>) -> Stats| {
+                let mut px = std::vec![[0u8; 3]; (w * h) as usize];
+                let mut z = std::vec![0xFFFFu16; (w * h) as usize];
+                let st = frame(&mut Framebuffer::new(&mut px, Some(&mut z), w, h).unwrap());
+                (px, st)
+            };
+            let a = draw(&|fb| f1.draw::<Gradient, _>(fb).unwrap());
+            let b = draw(&|fb| f2.draw::<Gradient, _>(fb).unwrap());
+            assert_eq!(a, b, "round {round}");
+        }
+        assert!(backs > 5_000, "{backs}");
     }
 
     /// The vertex stage's colours are the eye-space setup's (`LightingSetup::shade`

@@ -316,6 +316,7 @@ impl<'a> Object<'a> {
             mesh,
             placement: Placement::default(),
             material: Material::default(),
+            back_material: None,
         }
     }
 
@@ -340,6 +341,21 @@ impl<'a> Object<'a> {
     /// The same object with `material`.
     pub fn with_material(mut self, material: Material) -> Object<'a> {
         self.material = material;
+        self
+    }
+
+    /// The same object with `material` on its back faces (used by two-sided
+    /// lighting, [`crate::effects::TwoSided`]).
+    ///
+    /// ```
+    /// use fixshade::prelude::{rgb, Material, Object};
+    /// # let mesh = fixshade::doc_support::triangle().unwrap();
+    /// let inside = Material::default().with_diffuse(rgb(200, 40, 40));
+    /// let obj = Object::new(mesh).with_back_material(&inside);
+    /// assert_eq!(obj.back_material, Some(&inside));
+    /// ```
+    pub fn with_back_material(mut self, material: &'a Material) -> Object<'a> {
+        self.back_material = Some(material);
         self
     }
 }

@@ -171,6 +171,11 @@ pub struct Object<'a> {
     pub placement: Placement,
     /// Material.
     pub material: Material,
+    /// The material of its back faces under two-sided lighting
+    /// ([`crate::effects::TwoSided`]), borrowed (usually from flash: 4 bytes an
+    /// object in RAM); `None`: [`Object::material`] on both sides (OpenGL's
+    /// `GL_FRONT_AND_BACK`). One-sided lighting never reads it.
+    pub back_material: Option<&'a Material>,
 }
 
 /// A scene's fixed capacity (8 lights, 16 objects) is exhausted.

@@ -6,7 +6,9 @@
 //! shading set, as the host renders them; and, for the cases with a perspective
 //! camera, twice more in Gouraud shading with perspective-correct colours
 //! (`Frame::draw_perspective` with `exact`, every pixel and sub-spans of 16: span
-//! names `perspective-1`, `perspective-16`). Frames go to the host files
+//! names `perspective-1`, `perspective-16`). A case with two-sided lighting is drawn
+//! the same way with frames lit two-sided (`fixshade::effects::TwoSided`), except in
+//! adaptive shading, which does not support it. Frames go to the host files
 //! `<case>-<shading>-<span>.rgb565` (see `fixshade_boards_common::scenes`);
 //! `cargo xtask qemu` builds it (`--features scenes --bin fixshade-mps2-scenes`)
 //! and compares every byte with the host.
@@ -15,12 +17,14 @@
 
 use cortex_m_rt::{entry, exception};
 use fixshade::divide::Exact;
+use fixshade::effects::TwoSided;
+use fixshade::light::{BlinnExact, Specular};
 use fixshade::raster::perspective::Perspective;
 use fixshade::render::{Frame, XfVertex};
 use fixshade::scene::{Projection, Scene, ShadingMode};
 use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
-use fixshade_boards_common::{cases, Counter, SceneSettings};
+use fixshade_boards_common::{cases_lit, Counter, SceneSettings};
 use semihosting::io::Write as _;
 
 /// The baked cases.
@@ -37,7 +41,8 @@ const ICOUNT_SHIFT: u32 = 10;
 
 /// Pixels of the framebuffer: the largest case (4095 × 6).
 const PIXELS: usize = 4096 * 6;
-/// Vertices of the vertex cache: the largest case's scene (3010).
+/// Vertices of the vertex cache: the largest case's scene (3010); a two-sided case
+/// takes two entries a vertex.
 const VERTICES: usize = 3072;
 
 /// The shading modes, in the host's order (`fixshade list`).
@@ -84,25 +89,37 @@ fn run() -> Result<(), &'static str> {
     };
     for case in &baked::CASES {
         let n = (case.width * case.height) as usize;
-        if n > PIXELS || case.vertices > VERTICES {
+        let sides = if case.two_sided { 2 } else { 1 };
+        if n > PIXELS || sides * case.vertices > VERTICES {
             return Err("a case larger than the image's buffers");
         }
         let mut scene = (case.scene)().map_err(|_| "baked mesh rejected")?;
-        if case.depth32 {
-            draw_case::<u32>(case, &mut scene, color, depth32, cache, &mut counter)?;
-        } else {
-            draw_case::<u16>(case, &mut scene, color, depth, cache, &mut counter)?;
+        let c = &mut counter;
+        match (case.two_sided, case.depth32) {
+            (false, false) => {
+                draw_case::<BlinnExact, u16>(case, &mut scene, color, depth, cache, c)?
+            }
+            (true, false) => {
+                draw_case::<TwoSided<BlinnExact>, u16>(case, &mut scene, color, depth, cache, c)?
+            }
+            (false, true) => {
+                draw_case::<BlinnExact, u32>(case, &mut scene, color, depth32, cache, c)?
+            }
+            // Each combination is every span method again in flash: only those the
+            // catalogue has.
+            (true, true) => return Err("no image draws two-sided lighting with 32-bit depth"),
         }
     }
     Ok(())
 }
 
-/// Draws `case` (its scene in `scene`) with every span method and shading mode into
-/// a framebuffer of `color` and `depth` (cells `D`: the case's `depth_bits`), and its
-/// perspective-correct frames; writes each frame's file and `SCENE` line.
-fn draw_case<D: DepthFormat>(
+/// Draws `case` (its scene in `scene`) lit with `Sp` with every span method and
+/// shading mode into a framebuffer of `color` and `depth` (cells `D`: the case's
+/// `depth_bits`), and its perspective-correct frames; writes each frame's file and
+/// `SCENE` line.
+fn draw_case<Sp: Specular, D: DepthFormat>(
     case: &baked::SceneCase,
-    scene: &mut Scene<'_>,
+    scene: &mut Scene<'static>,
     color: &mut [u16],
     depth: &mut [D],
     cache: &mut [XfVertex],
@@ -122,16 +139,20 @@ fn draw_case<D: DepthFormat>(
         h,
     )
     .map_err(|_| "framebuffer")?;
-    let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>();
+    let table = cases_lit::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>, Sp>();
     for shading in SHADINGS {
         scene.shading = shading;
         for (span, draw) in &table {
             if scenes::ignores_span(shading) && *span != "gradient" {
                 continue;
             }
+            // Adaptive shading does not support two-sided lighting.
+            if Sp::TWO_SIDED && shading == ShadingMode::Adaptive {
+                continue;
+            }
             fb.clear(bg);
-            let (frame, prepare) =
-                counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
+            let (frame, prepare) = counter
+                .measure(|| Frame::<Rgb565Le>::prepare_with::<Sp>(scene, w, h, &mut cache[..]));
             let frame = frame.map_err(|_| "prepare failed")?;
             let (stats, cost) = counter.measure(|| draw(&frame, &mut fb));
             let mut log = SceneLog {
@@ -165,7 +186,7 @@ fn draw_case<D: DepthFormat>(
     ] {
         fb.clear(bg);
         let (frame, prepare) =
-            counter.measure(|| Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache[..]));
+            counter.measure(|| Frame::<Rgb565Le>::prepare_with::<Sp>(scene, w, h, &mut cache[..]));
         let frame = frame.map_err(|_| "prepare failed")?;
         let (stats, cost) = counter.measure(|| frame.draw_perspective::<Exact, _>(&mut fb, mode));
         let mut log = SceneLog {

@@ -62,6 +62,9 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
         target: &mut T,
         persp: Option<Perspective>,
     ) -> Result<Stats, RenderError> {
+        if Sp::TWO_SIDED {
+            return Err(RenderError::TwoSidedUnsupported);
+        }
         // One Phong triangle with its clip-space w.
         let phong =
             |target: &mut T, v: [PhongVertex; 3], w: [i64; 3], light: &LightingSetup<Sp>| {
@@ -88,8 +91,8 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
                 st.triangles += 1;
                 let t = tri.map(|i| verts[i as usize]);
                 let class = classify(&t, cull, &self.vp, rows.clone());
-                if class == Class::Skip {
-                    st.culled += 1;
+                if let Class::Skip(why) = class {
+                    st.skip(why);
                     continue;
                 }
                 let e: [([i32; 3], [i32; 3]); 3] = core::array::from_fn(|k| eye(tri[k] as usize));

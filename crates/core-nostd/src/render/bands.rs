@@ -182,6 +182,10 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             starts,
         } = mem;
         let mut st = Stats::default();
+        if Sp::TWO_SIDED {
+            // No records of the back colours: bands re-walk.
+            return Ok(self.unbinned(band_rows));
+        }
         let flat = match self.scene.shading {
             ShadingMode::Gouraud => false,
             ShadingMode::Flat => true,
@@ -215,7 +219,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 let t: [&XfVertex; 3] = tri.map(|i| &verts[i as usize]);
                 let colour = |k: usize| if flat { t[2].s.c } else { t[k].s.c };
                 match classify_refs(t, cull, &self.vp, 0..height as i32) {
-                    Class::Skip => st.culled += 1,
+                    Class::Skip(why) => st.skip(why),
                     Class::Draw => {
                         st.drawn += 1;
                         if flat {

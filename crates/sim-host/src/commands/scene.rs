@@ -15,6 +15,7 @@ use crate::scene::desc::{
 use crate::scene::effects;
 use crate::scene::load::{self, LoadedScene};
 use crate::tables;
+use fixshade::render::Stats;
 
 /// A scene and the settings the command line overrides in it.
 #[derive(Clone, Debug, Default, clap::Args)]
@@ -157,12 +158,11 @@ pub fn render(
         e => format!(", {e} lighting evaluations"),
     };
     let mut text = format!(
-        "{}: {} triangles ({} drawn, {} {}, {} clipped), {} covered pixels{evals} -> {}",
+        "{}: {} triangles ({} drawn, {}, {} clipped), {} covered pixels{evals} -> {}",
         ls.name,
         r.stats.triangles,
         r.stats.drawn,
-        r.stats.culled,
-        skipped_words(ls.desc.cull_back),
+        skipped_words(&r.stats, ls.desc.cull_back),
         r.stats.clipped,
         r.image.covered_count(),
         out.display()
@@ -171,7 +171,7 @@ pub fn render(
         text.push_str(&format!(
             "\nadaptive: {} of {} polygons lit per pixel",
             r.stats.per_pixel,
-            r.stats.triangles - r.stats.culled
+            r.stats.triangles - r.stats.skipped()
         ));
     }
     if explain {
@@ -182,15 +182,18 @@ pub fn render(
     Ok(text)
 }
 
-/// What the core's `Stats::culled` counts, in words: the triangles it drops before
-/// rasterizing. Without back-face culling none of them is a back face: they snapped
-/// to zero area or lie outside the frame. (The core counts the three reasons
-/// together; separating them needs a counter per reason in the core.)
-pub fn skipped_words(cull_back: bool) -> &'static str {
+/// The triangles the core dropped before rasterizing, by reason, in words: back
+/// faces culled (only with culling on: without it none is), zero area after
+/// snapping, off the frame.
+pub fn skipped_words(st: &Stats, cull_back: bool) -> String {
+    let rest = format!(
+        "{} of zero area after snapping, {} off the frame",
+        st.degenerate, st.outside
+    );
     if cull_back {
-        "culled (back faces, zero area after snapping, or off the frame)"
+        format!("{} culled as back faces, {rest}", st.culled)
     } else {
-        "skipped (zero area after snapping, or off the frame; culling is off)"
+        rest
     }
 }
 

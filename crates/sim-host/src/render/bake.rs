@@ -213,7 +213,7 @@ fn scene_src(s: &Scene<'_>) -> String {
         let p = &o.placement;
         let _ = writeln!(
             f,
-            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n    }});",
+            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n        back_material: BACK_MATERIALS[{i}].as_ref(),\n    }});",
             v3(&p.translate),
             p.rotate
                 .iter()
@@ -420,6 +420,19 @@ fn bake_meshes(
     );
     if let Some(d) = desc {
         let s = core_scene(d, fixed)?;
+        // Two-sided lighting's back materials (a static: the objects borrow them).
+        let _ = writeln!(
+            f,
+            "/// Every object's back material (two-sided lighting), in the scene's object order.\npub static BACK_MATERIALS: [Option<Material>; {}] = [\n{}];\n",
+            s.objects.len(),
+            s.objects
+                .iter()
+                .map(|o| match o.back_material {
+                    Some(m) => format!("    Some({}),\n", material_src(m)),
+                    None => "    None,\n".to_string(),
+                })
+                .collect::<String>()
+        );
         let bg = background_channels(d.format, d.background);
         let _ = writeln!(
             f,

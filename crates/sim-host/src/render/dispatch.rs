@@ -27,7 +27,7 @@
 //! [`fixshade::for_each_shading!`]), so a new span method needs no line here.
 
 use fixshade::divide::{Divide, Exact};
-use fixshade::effects::NoSpecular;
+use fixshade::effects::{NoSpecular, TwoSided};
 use fixshade::raster::perspective::Perspective;
 use fixshade::raster::phong::Sampling;
 use fixshade::raster::span::{DepthMode, DepthTest, Gradient, NoDepth, SpanMethod, WithDivide};
@@ -256,6 +256,20 @@ impl Lighting for HostSpecular {
         } else {
             choose_with::<P, Self, HostDivide>(d)
         }
+    }
+}
+
+/// Two-sided lighting with the specular model chosen at run time: the exact
+/// divider only, and not adaptive shading (the core does not support it there).
+impl Lighting for TwoSided<HostSpecular> {
+    fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P, Self>, String> {
+        if d.shading == ShadingName::ADAPTIVE {
+            return Err(fixshade::render::RenderError::TwoSidedUnsupported.to_string());
+        }
+        if d.divide != DivideName::EXACT {
+            return Err("two-sided lighting takes the exact divider (divide = \"exact\")".into());
+        }
+        choose_with::<P, Self, Exact>(d)
     }
 }
 

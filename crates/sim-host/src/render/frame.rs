@@ -9,7 +9,7 @@
 
 use std::time::{Duration, Instant};
 
-use fixshade::effects::NoSpecular;
+use fixshade::effects::{NoSpecular, TwoSided};
 use fixshade::eg::{Covered, CoveredPixel};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::target::{DepthFormat, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
@@ -140,7 +140,10 @@ macro_rules! pick_format {
             if d.format.index() == at {
                 type $P = <$F as Drawn>::As;
                 let $swap = <$F as Drawn>::SWAP;
-                return if specular_pipeline(d) {
+                return if d.two_sided {
+                    type $Sp = TwoSided<HostSpecular>;
+                    $body
+                } else if specular_pipeline(d) {
                     type $Sp = HostSpecular;
                     $body
                 } else {
@@ -259,7 +262,7 @@ fn render_as<P: PixelFormat, Sp: Lighting>(
     let d = &ls.desc;
     let scene = core_scene(d, &ls.fixed)?;
     let pipeline = Pipeline::<P, Sp>::new(d)?;
-    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let mut cache = vec![XfVertex::default(); Frame::<Covered<P>, Sp>::cache_len(&scene)];
     let frame = pipeline.prepare(&scene, d.width, d.height, &mut cache)?;
     let rows = strip_rows.unwrap_or(d.height);
     let (color, stats) = bands::<P>(d, rows, pipeline.depth32(), |strip| {
@@ -299,7 +302,7 @@ fn time_as<P: PixelFormat, Sp: Lighting>(
     let (w, h) = (d.width, d.height);
     let n = w as usize * h as usize;
     let pipeline = Pipeline::<P, Sp>::new(d)?;
-    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let mut cache = vec![XfVertex::default(); Frame::<Covered<P>, Sp>::cache_len(&scene)];
     let mut color = vec![CoveredPixel::<P::Raw>::default(); n];
     let (mut depth16, mut depth32) = (Vec::new(), Vec::new());
     if pipeline.depth32() {
@@ -372,7 +375,9 @@ fn chunked_as<P: PixelFormat, Sp: Lighting>(
         })
         .collect::<Result<Vec<_>, String>>()?;
     let pipeline = Pipeline::<P, Sp>::new(d)?;
-    let mut cache = vec![XfVertex::default(); max_vertices];
+    // Two-sided lighting keeps the back colours in a second half of the cache.
+    let sides = if Sp::TWO_SIDED { 2 } else { 1 };
+    let mut cache = vec![XfVertex::default(); sides * max_vertices];
     let (color, _) = bands::<P>(d, rows, pipeline.depth32(), |mut strip| {
         let mut stats = Stats::default();
         for scene in &scenes {

@@ -90,6 +90,11 @@ impl<F: PixelFn> PixelFn for Recording<'_, F> {
 
 fn run<S: Specular, P: PixelFormat>(ls: &LoadedScene, s: Sampling) -> Result<RayImage, String> {
     let d = &ls.desc;
+    if d.two_sided {
+        return Err("two-sided lighting is not supported by the ray caster \
+                    (shading = \"raycast\"); use a rasterizing shading"
+            .into());
+    }
     let scene = core_scene(d, &ls.fixed)?;
     let spheres: Vec<Sphere> = d
         .raycast

@@ -104,6 +104,7 @@ pub fn quantize_scene(d: &SceneDesc) -> SceneDesc {
         o.rotate_deg = o.rotate_deg.map(qa);
         o.scale = f16(q16(o.scale));
         o.material = quantize_material(&o.material);
+        o.back_material = o.back_material.as_ref().map(quantize_material);
     }
     q
 }
@@ -227,6 +228,21 @@ pub fn material(m: &MaterialDesc) -> Material {
     }
 }
 
+/// `m` with the static lifetime a core object's back material borrows with: each
+/// distinct material is kept once for the life of the process (a scene's back
+/// materials are few; a scene converted again finds its materials kept).
+fn interned(m: Material) -> &'static Material {
+    use std::sync::Mutex;
+    static KEPT: Mutex<Vec<&'static Material>> = Mutex::new(Vec::new());
+    let mut kept = KEPT.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(k) = kept.iter().find(|k| ***k == m) {
+        return k;
+    }
+    let k: &'static Material = Box::leak(Box::new(m));
+    kept.push(k);
+    k
+}
+
 /// Builds the core scene of `d` over `meshes` (one per object, in order).
 pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a>, String> {
     let mut s = Scene::new(camera(&d.camera));
@@ -252,6 +268,7 @@ pub fn core_scene<'a>(d: &SceneDesc, meshes: &'a [FixedMesh]) -> Result<Scene<'a
                 scale: q16(o.scale),
             },
             material: material(&o.material),
+            back_material: o.back_material.as_ref().map(|m| interned(material(m))),
         })
         .map_err(|_| "more than 16 objects".to_string())?;
     }

@@ -126,6 +126,9 @@ pub struct ObjectDesc {
     /// Where [`ObjectDesc::material`] comes from (whether an OBJ's MTL materials
     /// apply).
     pub material_from: MaterialFrom,
+    /// The material of the object's back faces under two-sided lighting
+    /// (`[object.back_material]`); `None`: the front material on both sides.
+    pub back_material: Option<MaterialDesc>,
 }
 
 impl ObjectDesc {
@@ -256,6 +259,9 @@ pub struct SceneDesc {
     pub global_ambient: [f64; 3],
     /// Local viewer (`GL_LIGHT_MODEL_LOCAL_VIEWER`).
     pub local_viewer: bool,
+    /// Two-sided lighting (`GL_LIGHT_MODEL_TWO_SIDE`): back faces lit with the
+    /// negated normal and the back material.
+    pub two_sided: bool,
     /// Objects.
     pub objects: Vec<ObjectDesc>,
     /// Shading mode.

@@ -70,17 +70,25 @@ pub struct Effects {
     pub local_viewer: Setting<bool>,
     /// Perspective-correct interpolation of Gouraud colours and Phong normals.
     pub perspective: Setting<bool>,
+    /// Two-sided lighting (back faces lit with the negated normal and the back
+    /// material: [`fixshade::effects::TwoSided`]).
+    pub two_sided: Setting<bool>,
 }
 
 fn nonzero(c: &[f64; 3]) -> bool {
     c.iter().any(|v| *v > 0.0)
 }
 
-/// True if some light and some material both have a specular colour, so the
-/// specular term can light a pixel.
+/// True if some light and some material (front, or back under two-sided
+/// lighting) both have a specular colour, so the specular term can light a pixel.
 pub fn has_specular(d: &SceneDesc) -> bool {
+    let back = |o: &super::desc::ObjectDesc| {
+        d.two_sided && o.back_material.is_some_and(|b| nonzero(&b.specular))
+    };
     d.lights.iter().any(|l| nonzero(&l.specular))
-        && d.objects.iter().any(|o| nonzero(&o.material.specular))
+        && d.objects
+            .iter()
+            .any(|o| nonzero(&o.material.specular) || back(o))
 }
 
 /// True if `+specular` is forced (scene file or command line): the frame runs the
@@ -282,6 +290,24 @@ pub fn derive(ls: &LoadedScene) -> Result<Effects, String> {
         perspective = set(false, why);
     }
 
+    // Two-sided lighting.
+    let back_material = d.objects.iter().any(|o| o.back_material.is_some());
+    let two_sided = if !d.two_sided {
+        set(false, "the scene sets two_sided = false (or leaves it out)")
+    } else if cull.value {
+        set(
+            false,
+            "back faces are culled: no back face is drawn to show it",
+        )
+    } else if lighting.value == Lighting::Unlit && !back_material {
+        set(
+            false,
+            "unlit and no back material: both sides have the same colour",
+        )
+    } else {
+        set(true, "the scene sets two_sided = true and draws back faces")
+    };
+
     Ok(Effects {
         depth,
         cull,
@@ -290,6 +316,7 @@ pub fn derive(ls: &LoadedScene) -> Result<Effects, String> {
         lights,
         local_viewer,
         perspective,
+        two_sided,
     })
 }
 
@@ -306,6 +333,7 @@ pub fn apply(ls: &LoadedScene, e: &Effects) -> LoadedScene {
     d.shading = e.shading.value;
     d.local_viewer = e.local_viewer.value;
     d.perspective_correct = e.perspective.value;
+    d.two_sided = e.two_sided.value;
     match e.lighting.value {
         Lighting::Unlit => d.lights.clear(),
         Lighting::Diffuse => {
@@ -314,6 +342,9 @@ pub fn apply(ls: &LoadedScene, e: &Effects) -> LoadedScene {
             }
             for o in &mut d.objects {
                 o.material.specular = [0.0; 3];
+                if let Some(b) = &mut o.back_material {
+                    b.specular = [0.0; 3];
+                }
             }
         }
         Lighting::Specular => {}

@@ -65,6 +65,7 @@
 //! |-----|------|---------|-------|
 //! | `global_ambient` | colour | `[0.2, 0.2, 0.2]` | OpenGL's `GL_LIGHT_MODEL_AMBIENT` |
 //! | `local_viewer` | boolean | `false` | OpenGL's `GL_LIGHT_MODEL_LOCAL_VIEWER` |
+//! | `two_sided` | boolean | `false` | OpenGL's `GL_LIGHT_MODEL_TWO_SIDE`: a back face (clockwise on screen) is lit with its normals negated and its object's `back_material`; only shows with `cull = "none"`; not with `adaptive` or `raycast` shading (an error), nor with a divider other than `exact` (an error); see docs/effects.md |
 //!
 //! ## `[[light]]` (0 to 8 of them)
 //!
@@ -103,6 +104,7 @@
 //! | `rotate` | vector | `[0, 0, 0]` | degrees about x, y and z (x applied first) |
 //! | `scale` | number | 1 | > 0 (uniform) |
 //! | `material` | table | the `[material]` table | written `[object.material]` after the `[[object]]` header; the keys given override `[material]` for this object, with the same types and ranges. For an OBJ with MTL materials: without this table each group draws with its MTL material (`Kd`, `Ka`, `Ks`, `Ke`, `Ns`), keys the MTL file leaves out taken from `[material]`; with it, this material replaces the MTL materials for every group |
+//! | `back_material` | table | the object's material | written `[object.back_material]` after the `[[object]]` header: the material of the object's back faces under `two_sided = true`; the keys given override the object's material (`[object.material]` over `[material]`; not an OBJ's MTL materials), with the same types and ranges |
 //!
 //! ## `[[sphere]]` and `[[plane]]` (0 to 8 spheres, 0 to 4 planes)
 //!
@@ -149,6 +151,7 @@
 //! [lighting]
 //! global_ambient = [0.2, 0.2, 0.2]  # default
 //! local_viewer = false              # default
+//! two_sided = false                 # default
 //!
 //! [[light]]
 //! type = "directional"
@@ -180,6 +183,9 @@
 //!
 //! [object.material]            # overrides [material] for this object only
 //! diffuse = [0.9, 0.45, 0.12]
+//!
+//! [object.back_material]       # its back faces under two_sided = true
+//! diffuse = [0.2, 0.3, 0.8]
 //!
 //! [[object]]
 //! mesh = "teapot"
@@ -342,7 +348,7 @@ const CAMERA_KEYS: &[&str] = &[
     "near",
     "far",
 ];
-const LIGHTING_KEYS: &[&str] = &["global_ambient", "local_viewer"];
+const LIGHTING_KEYS: &[&str] = &["global_ambient", "local_viewer", "two_sided"];
 const LIGHT_KEYS: &[&str] = &[
     "type",
     "direction",
@@ -363,6 +369,7 @@ const OBJECT_KEYS: &[&str] = &[
     "rotate",
     "scale",
     "material",
+    "back_material",
 ];
 
 /// Most lights a scene may have.
@@ -712,6 +719,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         lights: Vec::new(),
         global_ambient: [0.2, 0.2, 0.2],
         local_viewer: false,
+        two_sided: false,
         objects: Vec::new(),
         shading: ShadingName::GOURAUD,
         span: SpanName::GRADIENT,
@@ -748,6 +756,7 @@ fn scene(doc: &DeTable<'_>) -> R<SceneDesc> {
         let s = Section::from_value("[lighting]", "lighting", v, LIGHTING_KEYS)?;
         desc.global_ambient = s.colour("global_ambient", desc.global_ambient)?;
         desc.local_viewer = s.boolean("local_viewer", desc.local_viewer)?;
+        desc.two_sided = s.boolean("two_sided", desc.two_sided)?;
     }
     if let Some(v) = get("light") {
         for item in array_of_tables("light", v, MAX_LIGHTS, "lights")? {
@@ -1131,6 +1140,14 @@ fn object(s: &Section<'_, '_>, base: MaterialDesc) -> R<ObjectDesc> {
         ),
         None => (base, MaterialFrom::Scene),
     };
+    // The back material's keys override the object's (front) material.
+    let back_material = match s.get("back_material") {
+        Some(v) => Some(self::material(
+            &Section::from_value("[object.back_material]", "back_material", v, MATERIAL_KEYS)?,
+            material,
+        )?),
+        None => None,
+    };
     Ok(ObjectDesc {
         mesh,
         translate: s.vector("translate", [0.0; 3])?,
@@ -1138,6 +1155,7 @@ fn object(s: &Section<'_, '_>, base: MaterialDesc) -> R<ObjectDesc> {
         scale,
         material,
         material_from,
+        back_material,
     })
 }
 
@@ -1380,6 +1398,7 @@ mod tests {
                 scale: 1.0,
                 material: MaterialDesc::default(),
                 material_from: MaterialFrom::Scene,
+                back_material: None,
             }]
         );
         assert_eq!(

@@ -94,6 +94,9 @@ pub fn costs(
     if e.perspective.value {
         measure("perspective correction", &|x| x.perspective.value = false)?;
     }
+    if e.two_sided.value {
+        measure("two-sided lighting", &|x| x.two_sided.value = false)?;
+    }
     Ok(out)
 }
 
@@ -123,6 +126,11 @@ pub fn explain(name: &str, e: &Effects, costs: Option<&[Cost]>) -> String {
         "perspective correction",
         on(e.perspective.value).into(),
         &e.perspective.why,
+    );
+    row(
+        "two-sided lighting",
+        on(e.two_sided.value).into(),
+        &e.two_sided.why,
     );
     if let Some(costs) = costs {
         let _ = writeln!(
@@ -257,7 +265,7 @@ pub fn table_row(name: &str, pairs: usize, runs: usize) -> Result<Row, String> {
         time: t_on.mul_f64(ratio_on),
         ratio: ratio_on,
         adaptive: (ls.desc.shading == ShadingName::ADAPTIVE)
-            .then_some((r.stats.per_pixel, r.stats.triangles - r.stats.culled)),
+            .then_some((r.stats.per_pixel, r.stats.triangles - r.stats.skipped())),
     })
 }
 
@@ -282,7 +290,7 @@ pub fn adaptive_row(
         vs_phong,
         vs_ref,
         ra.stats.per_pixel,
-        ra.stats.triangles - ra.stats.culled,
+        ra.stats.triangles - ra.stats.skipped(),
         ratio,
     ))
 }
@@ -422,8 +430,8 @@ fn table_markdown(pairs: usize, runs: usize, quick: bool) -> Result<String, Stri
 const INTRO: &str = "\
 `fixshade render SCENE` derives the effects a scene calls for from its content, by \
 named rules, and runs the pipeline monomorphised for that combination: the depth \
-mode, the shading mode and the lighting model (with or without the specular term) \
-are type parameters of the core's `Frame`, so the inner loops contain only the \
+mode, the shading mode and the lighting model (with or without the specular term, \
+one- or two-sided) are type parameters of the core's `Frame`, so the inner loops contain only the \
 chosen work (`fixshade::effects` lists the types a firmware names to pick a \
 combination at compile time). `--explain` prints each effect, the rule that chose \
 it, and its measured share of the frame time; `--effects -depth,+specular` (or \
@@ -445,6 +453,10 @@ as written (tested in `tests/tests/effects.rs`):
 | perspective correction | orthographic camera | off (screen-space interpolation is exact) |
 | perspective correction | perspective camera | as the scene sets `perspective_correct` (default off: the seeds' screen-space interpolation); on: Gouraud colours, Phong normals and eye positions (adaptive: both) through one reciprocal per `perspective_span` pixels |
 | perspective correction | flat, quadratic or ray-cast shading, sampled Phong | off (flat and ray casting have nothing to correct; the quadratic surface and the segment sampler interpolate in screen space) |
+| two-sided lighting | the scene leaves out `two_sided = true` (in `[lighting]`) | off: one-sided lighting, no back colours |
+| two-sided lighting | back faces culled (`cull = \"back\"`) | off (no back face is drawn to show it) |
+| two-sided lighting | unlit and no `[object.back_material]` | off (both sides have the same colour) |
+| two-sided lighting | otherwise | on: `fixshade::effects::TwoSided`, the vertex stage also lights each needed vertex with its normal negated and the back material (the second half of the vertex cache), and back faces take those colours (flat, Gouraud, perspective-correct Gouraud) or light per pixel with the interpolated normal negated (Phong, and the quadratic surface's midpoints); adaptive shading and ray casting do not support it and report an error |
 
 Forced settings (`+NAME`/`-NAME`, NAME: `depth`, `cull`, `specular`, `lighting`, \
 `local-viewer`, `perspective`) win over the rules; `-specular` drops the highlights, \

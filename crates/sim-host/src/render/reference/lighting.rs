@@ -279,6 +279,7 @@ mod tests {
             ],
             global_ambient: [0.2; 3],
             local_viewer: false,
+            two_sided: false,
             objects: vec![],
             shading: ShadingName::GOURAUD,
             span: SpanName::CLASSIC,

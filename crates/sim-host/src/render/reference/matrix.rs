@@ -300,6 +300,7 @@ mod tests {
             scale: 2.0,
             material: MaterialDesc::default(),
             material_from: Default::default(),
+            back_material: None,
         };
         let m = model_matrix(&obj);
         // x: scale → (2,0,0); Rx keeps it; Rz(90) → (0,2,0); translate.

@@ -15,6 +15,9 @@
 //! * Screen vertices snapped to 1/16 pixel (`floor(X*16 + 0.5)`), y down, origin at
 //!   the top-left image corner; exact integer coverage at pixel centres with the
 //!   top-left rule; back faces (positive snapped area with y down) culled on request.
+//! * Two-sided lighting on request (`GL_LIGHT_MODEL_TWO_SIDE`): a back face (the
+//!   same sign test) is lit with the negated normals and the object's back material
+//!   (its front material when it has none).
 //! * Barycentric interpolation at pixel centres from the snapped positions:
 //!   screen-affine or perspective-correct colours (Gouraud), the provoking (last)
 //!   vertex's colour (flat), or per-pixel lighting (Phong); depth `(z_ndc+1)/2`
@@ -62,6 +65,9 @@ struct ClipVertex {
     clip: [f64; 4],
     /// Lit, clamped colour (unused with Phong shading).
     colour: [f64; 3],
+    /// The colour lit with the negated normal and the back material (two-sided
+    /// lighting only; unused otherwise).
+    back: [f64; 3],
     /// Eye-space normal (unit at the original vertices, not renormalised after
     /// interpolation).
     normal: [f64; 3],
@@ -78,6 +84,7 @@ impl ClipVertex {
         ClipVertex {
             clip: l(a.clip, b.clip, t),
             colour: l(a.colour, b.colour, t),
+            back: l(a.back, b.back, t),
             normal: l(a.normal, b.normal, t),
             eye: l(a.eye, b.eye, t),
         }
@@ -178,13 +185,25 @@ struct Target<'a> {
 
 impl Target<'_> {
     /// Rasterises one (fan) triangle. `flat` is the colour of the original
-    /// triangle's provoking vertex.
-    fn draw_triangle(&mut self, t: [&ScreenVertex; 3], flat: [f64; 3], material: &MaterialDesc) {
+    /// triangle's provoking vertex, front and back; `material` the front and back
+    /// materials (the back ones used by two-sided lighting on back faces).
+    fn draw_triangle(
+        &mut self,
+        t: [&ScreenVertex; 3],
+        flat: [[f64; 3]; 2],
+        material: [&MaterialDesc; 2],
+    ) {
         let pos = [t[0].pos, t[1].pos, t[2].pos];
         let area = raster::signed_area(&pos);
         if area == 0 || (self.scene.cull_back && area > 0) {
             return;
         }
+        // Two-sided lighting: a back face takes the back colours, or is lit per
+        // pixel with the negated normal and the back material.
+        let back = self.scene.two_sided && area > 0;
+        let side = usize::from(back);
+        let (flat, material) = (flat[side], material[side]);
+        let sign = if back { -1.0 } else { 1.0 };
         let (width, height) = (self.scene.width, self.scene.height);
         let scene = self.scene;
         let (opts, ctx) = (self.opts, self.ctx);
@@ -212,7 +231,8 @@ impl Target<'_> {
                 std::array::from_fn(|i| q[0] * a0[i] + q[1] * a1[i] + q[2] * a2[i])
             };
             let colour = if opts.phong {
-                light_vertex(ctx, mix(|v| v.eye), mix(|v| v.normal), material)
+                let n = mix(|v| v.normal).map(|c| sign * c);
+                light_vertex(ctx, mix(|v| v.eye), n, material)
             } else {
                 match scene.shading {
                     ShadingName::FLAT => flat,
@@ -220,6 +240,7 @@ impl Target<'_> {
                     // quadratic surface's reference is the Phong render (`phong`),
                     // and the Phong shadings are lit per pixel above (`opts.phong`
                     // is forced).
+                    _ if back => mix(|v| v.back),
                     _ => mix(|v| v.colour),
                 }
             };
@@ -300,6 +321,7 @@ pub fn render_reference(scene: &SceneDesc, meshes: &[MeshData], opts: &RefOption
         let model_view = mat_mul(&view, &model_matrix(obj));
         let nmat = normal_matrix(&model_view);
         let material = &obj.material;
+        let back_material = obj.back_material.as_ref().unwrap_or(material);
         let verts: Vec<ClipVertex> = mesh
             .positions
             .iter()
@@ -313,9 +335,15 @@ pub fn render_reference(scene: &SceneDesc, meshes: &[MeshData], opts: &RefOption
                 } else {
                     light_vertex(&ctx, eye, normal, material)
                 };
+                let back = if opts.phong || !scene.two_sided {
+                    [0.0; 3]
+                } else {
+                    light_vertex(&ctx, eye, normal.map(|c| -c), back_material)
+                };
                 ClipVertex {
                     clip: mat_vec(&proj, [eye[0], eye[1], eye[2], 1.0]),
                     colour,
+                    back,
                     normal,
                     eye,
                 }
@@ -329,7 +357,7 @@ pub fn render_reference(scene: &SceneDesc, meshes: &[MeshData], opts: &RefOption
             else {
                 continue;
             };
-            let flat = tv[2].colour;
+            let flat = [tv[2].colour, tv[2].back];
             let poly = clip_triangle([tv[0], tv[1], tv[2]]);
             let Some(screen) = poly
                 .iter()
@@ -339,7 +367,11 @@ pub fn render_reference(scene: &SceneDesc, meshes: &[MeshData], opts: &RefOption
                 continue;
             };
             for i in 1..screen.len().saturating_sub(1) {
-                target.draw_triangle([&screen[0], &screen[i], &screen[i + 1]], flat, material);
+                target.draw_triangle(
+                    [&screen[0], &screen[i], &screen[i + 1]],
+                    flat,
+                    [material, back_material],
+                );
             }
         }
     }

@@ -30,6 +30,7 @@ fn object(material: MaterialDesc) -> ObjectDesc {
         scale: 1.0,
         material,
         material_from: Default::default(),
+        back_material: None,
     }
 }
 
@@ -48,6 +49,7 @@ fn ortho_scene(objects: Vec<ObjectDesc>) -> SceneDesc {
         lights: vec![],
         global_ambient: [0.0; 3],
         local_viewer: false,
+        two_sided: false,
         objects,
         shading: ShadingName::GOURAUD,
         span: SpanName::CLASSIC,
@@ -158,6 +160,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
         ],
         global_ambient: [0.2; 3],
         local_viewer: true,
+        two_sided: false,
         objects: vec![ObjectDesc {
             mesh: MeshSource::Sphere { lon: 4, lat: 2 },
             translate: [0.0; 3],
@@ -171,6 +174,7 @@ fn lit_scene(width: u32, height: u32) -> SceneDesc {
                 shininess: 20.0,
             },
             material_from: Default::default(),
+            back_material: None,
         }],
         shading: ShadingName::GOURAUD,
         span: SpanName::CLASSIC,
@@ -368,6 +372,7 @@ fn clipping_interpolates_and_stays_finite() {
     let v = |clip: [f64; 4], c: f64| ClipVertex {
         clip,
         colour: [c; 3],
+        back: [c; 3],
         normal: [0.0, 0.0, 1.0],
         eye: [0.0, 0.0, -clip[3]],
     };
