@@ -14,7 +14,9 @@
 //! With perspective correction each kind of triangle goes through its perspective
 //! fill ([`crate::raster::perspective`]); the choice between them is the same.
 
-use super::{classify, clip_w, eye_normal, project_clamped, Class, Frame, RenderError, Stats};
+use super::frame::{
+    classify, clip_w, eye_normal, project_clamped, Class, Frame, RenderError, Stats,
+};
 use crate::clip::{clip_triangle, is_front, ClipVertex};
 use crate::divide::Divide;
 use crate::light::{LightingSetup, Specular};

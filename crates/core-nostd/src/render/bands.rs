@@ -53,7 +53,7 @@
 
 use core::ops::Range;
 
-use super::{classify_refs, Class, Frame, RenderError, Stats, XfVertex};
+use super::frame::{classify_refs, Class, Frame, RenderError, Stats, XfVertex};
 use crate::clip::ClipVertex;
 use crate::light::Specular;
 use crate::raster::edge::first_row;

@@ -1,0 +1,1838 @@
+//! The frame: the vertex stage ([`Frame::prepare`]) and the triangle loops that
+//! draw a prepared frame (`Frame::draw*`), with what they report ([`Stats`],
+//! [`RenderError`]). Re-exported by [`super`], whose docs hold the example.
+
+use core::marker::PhantomData;
+
+use crate::clip::{clip_triangle, is_front, ClipVertex};
+use crate::divide::{Divide, Exact};
+use crate::fixed::Q16_16;
+use crate::geometry::{Projector, Viewport};
+use crate::light::{BlinnExact, LightingSetup, Specular};
+use crate::math::{mul_wide_16, normalize_to_q30, Affine3, Mat4, Vec3, VertexTransform, ONE_Q30};
+use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
+use crate::raster::phong::{
+    self, draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
+};
+use crate::raster::quadratic::draw_quadratic_div;
+use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
+use crate::raster::span::{Gradient, WithDivide};
+use crate::raster::{draw_in_guard, draw_triangle, ScreenVertex};
+use crate::scene::{Object, Projection, Scene, ShadingMode, MAX_OBJECTS};
+use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
+use crate::target::{to_channels, PixelFormat, Target};
+
+/// A vertex after the vertex stage: its screen position, depth and lit colour in the
+/// target's channel units, and flags.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// // The caller owns the vertex cache: one entry per scene vertex (16 bytes or so each).
+/// let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+/// let frame = Frame::<Rgb565Le>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// # let _ = frame;
+/// assert_eq!(cache.len(), 3);
+/// ```
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct XfVertex {
+    /// Screen vertex (position valid only without [`OUTSIDE`]; colour only with
+    /// [`NEEDED`]).
+    pub s: ScreenVertex,
+    /// [`OUTSIDE`] and [`NEEDED`] bits.
+    pub flags: u8,
+}
+
+/// Flag: the vertex lies outside the guard band or the depth range (its triangles go
+/// through the clipper).
+pub const OUTSIDE: u8 = 1;
+/// Flag: some triangle that may be drawn uses the vertex, so it was lit.
+pub const NEEDED: u8 = 2;
+
+/// Why a triangle is not drawn.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Skip {
+    /// A back face, culled.
+    Back,
+    /// Zero area after snapping to the subpixel grid.
+    Degenerate,
+    /// Entirely off the frame rows or columns the target holds.
+    Outside,
+}
+
+/// What to do with a triangle.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Class {
+    /// Culled, zero-area, or entirely off the frame rows/columns.
+    Skip(Skip),
+    /// All vertices inside the guard band: rasterize directly.
+    Draw,
+    /// Some vertex outside: clip first.
+    Clip,
+}
+
+/// Classifies a triangle by its vertex-stage output. `rows` are the frame rows a
+/// target holds; a triangle entirely above, below, left or right of them is skipped.
+#[inline]
+pub(super) fn classify(
+    t: &[XfVertex; 3],
+    cull: bool,
+    vp: &Viewport,
+    rows: core::ops::Range<i32>,
+) -> Class {
+    classify_refs([&t[0], &t[1], &t[2]], cull, vp, rows)
+}
+
+/// [`classify`] on references into the vertex cache (the hot loops read the three
+/// vertices in place instead of copying them out first).
+#[inline(always)]
+pub(super) fn classify_refs(
+    t: [&XfVertex; 3],
+    cull: bool,
+    vp: &Viewport,
+    rows: core::ops::Range<i32>,
+) -> Class {
+    if (t[0].flags | t[1].flags | t[2].flags) & OUTSIDE != 0 {
+        return Class::Clip;
+    }
+    let (a, b, c) = (t[0].s, t[1].s, t[2].s);
+    let area = crate::clip::signed_area((a.x, a.y), (b.x, b.y), (c.x, c.y));
+    if area == 0 {
+        return Class::Skip(Skip::Degenerate);
+    }
+    if cull && area > 0 {
+        return Class::Skip(Skip::Back);
+    }
+    // Pixel centres at 16k + 8: a triangle whose max coordinate is below the first
+    // centre, or whose min coordinate is past the last, covers nothing.
+    let (x_min, x_max) = (a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x));
+    let (y_min, y_max) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
+    if x_max < 8
+        || x_min > 16 * vp.width as i32 - 8
+        || y_max < 16 * rows.start + 8
+        || y_min > 16 * rows.end - 8
+    {
+        return Class::Skip(Skip::Outside);
+    }
+    Class::Draw
+}
+
+/// Whether the cull pass takes the area with 32-bit products first
+/// ([`crate::clip::signed_area_i32`]): on ARMv6-M, where a 64-bit product is a
+/// library call. Both forms give the same sign (tested).
+const SMALL_AREA: bool = cfg!(fixshade_v6m);
+
+/// The vertex stage's step 1 under a perspective projection: x, y and w of every
+/// position ([`VertexTransform::xyw`]), the depth range tested on w, the screen
+/// position and depth from [`Projector::project`]; [`OUTSIDE`] for a vertex
+/// outside the depth range or the guard band. Returns whether some vertex is.
+/// (Out of line, as the other passes: each loop gets the registers to itself.)
+#[inline(never)]
+fn project_perspective<const S: u32, const SH: u8>(
+    out: &mut [XfVertex],
+    pos: &[Vec3],
+    clip: &VertexTransform,
+    proj: &Projector,
+    depth: &crate::geometry::PerspectiveDepth,
+) -> bool {
+    let (w_lo, w_hi) = depth.w_range();
+    let mut flags = 0;
+    for (o, p) in out.iter_mut().zip(pos) {
+        let [x, y, w] = clip.xyw::<S, SH>(p);
+        let s = if w < w_lo || w > w_hi {
+            None
+        } else {
+            proj.project_perspective(depth, x, y, w)
+        };
+        *o = vertex(s);
+        flags |= o.flags;
+    }
+    flags & OUTSIDE != 0
+}
+
+/// [`project_perspective`] for any other projection (orthographic): z from the
+/// matrix, the depth range `−w ≤ z ≤ w`.
+#[inline(never)]
+fn project_general<const S: u32, const SH: u8>(
+    out: &mut [XfVertex],
+    pos: &[Vec3],
+    clip: &VertexTransform,
+    proj: &Projector,
+) -> bool {
+    let mut flags = 0;
+    for (o, p) in out.iter_mut().zip(pos) {
+        let [x, y, z, w] = clip.xyzw::<S, SH>(p);
+        let s = if w <= 0 || z < -w || z > w {
+            None
+        } else {
+            proj.project_orthographic(x, y, z, w)
+        };
+        *o = vertex(s);
+        flags |= o.flags;
+    }
+    flags & OUTSIDE != 0
+}
+
+/// The vertex stage's step 3: the colour of every [`NEEDED`] vertex, lit in eye
+/// space (the normal through the normal matrix and renormalised, the position
+/// only where a point light or a local viewer reads it).
+///
+/// [`crate::light::ObjectLighting`] lights in the object's space instead, with no
+/// normal matrix (about 150 fewer instructions a vertex on the Cortex-M4, 700 on
+/// ARMv6-M), but its figures drift from the f64 reference (teapot NMSE 1.6e-6
+/// against 1.1e-6 here), so the vertex stage keeps the eye-space sums.
+#[inline(never)]
+fn light_needed<P: PixelFormat, Sp: Specular>(
+    out: &mut [XfVertex],
+    pos: &[Vec3],
+    nrm: &[[crate::fixed::Q2_14; 3]],
+    aff: &Affine3,
+    light: &LightingSetup<Sp>,
+) {
+    let position = light.needs_position();
+    for ((o, p), n) in out.iter_mut().zip(pos).zip(nrm) {
+        if o.flags & NEEDED == 0 {
+            continue;
+        }
+        let unit = eye_normal(aff, n);
+        let at = if position { aff.point(p) } else { [0; 3] };
+        o.s.c = to_channels::<P>(light.shade(at, unit));
+    }
+}
+
+/// The vertex stage's step 3 for the back faces of two-sided lighting
+/// ([`crate::effects::TwoSided`]): the colour of every vertex that `front` marks
+/// [`NEEDED`], lit with the negated eye-space normal (components within ±2³⁰ in
+/// Q2.30, so the negation cannot overflow) and `light`, the back material's setup;
+/// written to `back`'s colours.
+#[inline(never)]
+fn light_back<P: PixelFormat, Sp: Specular>(
+    back: &mut [XfVertex],
+    front: &[XfVertex],
+    pos: &[Vec3],
+    nrm: &[[crate::fixed::Q2_14; 3]],
+    aff: &Affine3,
+    light: &LightingSetup<Sp>,
+) {
+    let position = light.needs_position();
+    for (((b, f), p), n) in back.iter_mut().zip(front).zip(pos).zip(nrm) {
+        if f.flags & NEEDED == 0 {
+            continue;
+        }
+        let unit = eye_normal(aff, n).map(|c| -c);
+        let at = if position { aff.point(p) } else { [0; 3] };
+        b.s.c = to_channels::<P>(light.shade(at, unit));
+    }
+}
+
+/// True if the screen triangle `t` is a back face: the sign test of back-face
+/// culling ([`classify_refs`]: positive area with y down).
+#[inline(always)]
+fn is_back(t: [&ScreenVertex; 3]) -> bool {
+    crate::clip::signed_area((t[0].x, t[0].y), (t[1].x, t[1].y), (t[2].x, t[2].y)) > 0
+}
+
+/// A cache entry for a projected vertex, or an [`OUTSIDE`] one.
+#[inline(always)]
+fn vertex(s: Option<(i32, i32, u32)>) -> XfVertex {
+    match s {
+        Some((x, y, z)) => XfVertex {
+            s: ScreenVertex { x, y, z, c: [0; 3] },
+            flags: 0,
+        },
+        None => XfVertex {
+            s: ScreenVertex::default(),
+            flags: OUTSIDE,
+        },
+    }
+}
+
+/// The vertex stage's cull pass: marks [`NEEDED`] the vertices of every triangle
+/// that [`classify_refs`] over the whole frame does not skip (`CULL`: the scene
+/// culls back faces), with the same tests in a cheaper form: the flags first (only
+/// with `OUTSIDE`: some vertex of the mesh is), then the sign of the area (`SMALL`:
+/// with 32-bit products when the edges are under 2048 pixels), then the frame's
+/// edges, each a comparison of the three vertices that stops at the first one
+/// inside (the bounding-box test without the minima and maxima).
+#[inline(never)]
+fn mark_needed<const CULL: bool, const OUTSIDE_ANY: bool, const SMALL: bool>(
+    out: &mut [XfVertex],
+    tris: &[[u16; 3]],
+    vp: &Viewport,
+) {
+    // Pixel centres at 16k + 8 (see `classify_refs`).
+    let (right, bottom) = (16 * vp.width as i32 - 8, 16 * vp.height as i32 - 8);
+    for tri in tris {
+        let [a, b, c] = tri.map(|i| &out[i as usize]);
+        let draw = if OUTSIDE_ANY && (a.flags | b.flags | c.flags) & OUTSIDE != 0 {
+            true
+        } else {
+            let (a, b, c) = (a.s, b.s, c.s);
+            let front = |area_lt_0: bool, area_eq_0: bool| {
+                if CULL {
+                    area_lt_0
+                } else {
+                    !area_eq_0
+                }
+            };
+            let small = if SMALL {
+                crate::clip::signed_area_i32((a.x, a.y), (b.x, b.y), (c.x, c.y))
+            } else {
+                None
+            };
+            let kept = match small {
+                Some(area) => front(area < 0, area == 0),
+                None => {
+                    let area = crate::clip::signed_area((a.x, a.y), (b.x, b.y), (c.x, c.y));
+                    front(area < 0, area == 0)
+                }
+            };
+            kept && !((a.x < 8 && b.x < 8 && c.x < 8)
+                || (a.x > right && b.x > right && c.x > right)
+                || (a.y < 8 && b.y < 8 && c.y < 8)
+                || (a.y > bottom && b.y > bottom && c.y > bottom))
+        };
+        if draw {
+            for i in tri {
+                out[*i as usize].flags |= NEEDED;
+            }
+        }
+    }
+}
+
+/// Why a frame could not be prepared or drawn.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// let err = Frame::<Gray8>::prepare(&scene, 64, 48, &mut []).err();
+/// assert_eq!(err, Some(RenderError::CacheTooSmall { needed: 3 }));
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Gray8>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let mut px = [0u8; 64 * 48];
+/// let mut no_depth = Framebuffer::<Gray8>::new(&mut px, None, 64, 48).unwrap();
+/// // The scene tests depth, the target has no depth buffer.
+/// assert_eq!(frame.draw::<Gradient, _>(&mut no_depth), Err(RenderError::NoDepthBuffer));
+/// ```
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum RenderError {
+    /// The vertex cache holds fewer entries than the scene has vertices.
+    CacheTooSmall {
+        /// Entries needed ([`Scene::vertex_count`]).
+        needed: usize,
+    },
+    /// Frame width or height is zero or above 4096.
+    BadSize,
+    /// The camera's view is undefined (eye = target, or up parallel to the view).
+    BadView,
+    /// The projection parameters are invalid (fovy, near, far).
+    BadProjection,
+    /// An object's model matrix is singular (scale 0).
+    SingularModel {
+        /// The object's index.
+        object: usize,
+    },
+    /// The target's frame size differs from the prepared frame's.
+    TargetSizeMismatch,
+    /// The scene asks for a depth test but the target has no depth buffer.
+    NoDepthBuffer,
+    /// Two-sided lighting ([`crate::effects::TwoSided`]) with adaptive shading,
+    /// which does not support it.
+    TwoSidedUnsupported,
+}
+
+impl core::fmt::Display for RenderError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RenderError::CacheTooSmall { needed } => {
+                write!(
+                    f,
+                    "vertex cache too small: the scene needs {needed} entries"
+                )
+            }
+            RenderError::BadSize => f.write_str("frame width and height must be 1..=4096"),
+            RenderError::BadView => {
+                f.write_str("camera eye equals target, or up is parallel to the view direction")
+            }
+            RenderError::BadProjection => f.write_str("invalid projection (fovy, near or far)"),
+            RenderError::SingularModel { object } => {
+                write!(f, "object {object} has a singular model matrix (scale 0)")
+            }
+            RenderError::TargetSizeMismatch => {
+                f.write_str("target frame size differs from the prepared frame")
+            }
+            RenderError::NoDepthBuffer => {
+                f.write_str("the scene uses the depth test but the target has no depth buffer")
+            }
+            RenderError::TwoSidedUnsupported => f.write_str(
+                "two-sided lighting is not supported with adaptive shading \
+                 (use phong, gouraud, flat or quadratic)",
+            ),
+        }
+    }
+}
+
+/// What a draw call did.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Gray8>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let (mut px, mut z) = ([0u8; 64 * 48], [0xFFFFu16; 64 * 48]);
+/// let st = frame.draw::<Gradient, _>(&mut Framebuffer::new(&mut px, Some(&mut z), 64, 48).unwrap()).unwrap();
+/// assert_eq!((st.triangles, st.drawn, st.culled, st.clipped), (1, 1, 0, 0));
+/// assert_eq!(st.pixels as usize, px.iter().filter(|&&p| p != 0).count());
+/// ```
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Triangles submitted.
+    pub triangles: u32,
+    /// Back faces dropped by back-face culling (0 without culling).
+    pub culled: u32,
+    /// Dropped for zero area after snapping to the subpixel grid.
+    pub degenerate: u32,
+    /// Dropped for lying entirely outside the rows and columns of the target.
+    pub outside: u32,
+    /// Went through the clipper.
+    pub clipped: u32,
+    /// Triangles rasterized (after clipping, fans count once per piece).
+    pub drawn: u32,
+    /// Pixels covered inside the target (before the depth test).
+    pub pixels: u32,
+    /// Triangles that asked for the quadratic surface but were drawn with Gouraud
+    /// (those that went through the clipper: their pieces have no midpoint colours).
+    pub fallback: u32,
+    /// Per-pixel lighting evaluations of sampled Phong shading
+    /// ([`Frame::draw_phong_sampled`]); 0 for every other path.
+    pub evaluations: u32,
+    /// Adaptive shading only: triangles (clipped pieces count once per triangle)
+    /// that a highlight may reach and so were drawn with per-pixel lighting.
+    pub per_pixel: u32,
+    /// Bands drawn by walking every triangle again instead of from set-up records
+    /// ([`super::Binned::draw_band`]: the band memory was too small, or the method or the
+    /// shading has no records).
+    pub rewalked: u32,
+}
+
+impl Stats {
+    /// Triangles dropped before rasterizing, for any reason: culled back faces,
+    /// zero area, outside the target.
+    ///
+    /// ```
+    /// use fixshade::render::Stats;
+    /// let st = Stats { triangles: 10, culled: 4, degenerate: 1, outside: 2, drawn: 3, ..Stats::default() };
+    /// assert_eq!(st.skipped(), 7);
+    /// ```
+    pub fn skipped(&self) -> u32 {
+        self.culled + self.degenerate + self.outside
+    }
+
+    /// Counts a triangle skipped for `why`.
+    #[inline]
+    pub(super) fn skip(&mut self, why: Skip) {
+        match why {
+            Skip::Back => self.culled += 1,
+            Skip::Degenerate => self.degenerate += 1,
+            Skip::Outside => self.outside += 1,
+        }
+    }
+}
+
+impl core::ops::AddAssign for Stats {
+    fn add_assign(&mut self, o: Stats) {
+        self.triangles += o.triangles;
+        self.culled += o.culled;
+        self.degenerate += o.degenerate;
+        self.outside += o.outside;
+        self.clipped += o.clipped;
+        self.drawn += o.drawn;
+        self.pixels += o.pixels;
+        self.fallback += o.fallback;
+        self.evaluations += o.evaluations;
+        self.per_pixel += o.per_pixel;
+        self.rewalked += o.rewalked;
+    }
+}
+
+/// What a draw keeps of an object's vertex stage: where its vertices are in the
+/// cache, and its clip transform, rebuilt on first use by the same arithmetic as in
+/// [`Frame::prepare`] (so the same bits): only the clipper and the perspective fills
+/// need it, and a frame holding a 200-byte transform per object (3.6 KiB for 16
+/// objects) would not fit the few KiB of stack of a Cortex-M0 board.
+pub(super) struct Prepared<'f> {
+    pub(super) offset: usize,
+    obj: &'f Object<'f>,
+    view: &'f Mat4,
+    proj: &'f Mat4,
+    map: &'f Projector,
+    clip: core::cell::OnceCell<VertexTransform>,
+}
+
+impl Prepared<'_> {
+    /// The object's clip transform.
+    pub(super) fn clip(&self) -> &VertexTransform {
+        self.clip.get_or_init(|| {
+            // `prepare` built this transform from the same values: it exists.
+            let mv = self.view.mul(&self.obj.placement.matrix());
+            object_transform(&mv, self.proj, self.map, self.obj).unwrap_or_default()
+        })
+    }
+}
+
+/// The clip transform of `obj` with the model-view matrix `mv` in the frame of
+/// `proj` and `map`: `None` if it does not fit (see [`VertexTransform::new`]).
+fn object_transform(
+    mv: &Mat4,
+    proj: &Mat4,
+    map: &Projector,
+    obj: &Object<'_>,
+) -> Option<VertexTransform> {
+    VertexTransform::new(
+        &proj.mul(mv),
+        map.scale(),
+        obj.mesh.bound(),
+        map.w_bits(),
+        map.z_from_w(),
+    )
+}
+
+/// A frame whose vertex stage has run; draw it into one or more targets.
+///
+/// `Sp` is the specular model ([`BlinnExact`] unless prepared with
+/// [`Frame::prepare_with`]); every shading mode uses it.
+///
+/// Quadratic and Phong shading light points inside the triangle at draw time.
+/// Rather than keeping eye-space positions and normals per vertex (24 more bytes per
+/// cache entry, paid on every path) or per-object lighting setups in the frame (about
+/// 1 KB per object), the draw recomputes each object's model-view [`Affine3`] and
+/// [`LightingSetup`] (a few dozen multiplies and 8 normalisations per object) and
+/// takes positions and normals from the mesh: position through the affine map,
+/// normal through the normal matrix, normalised. The model-view is a similarity
+/// (rigid view, uniform scale), so a midpoint normal `normal_matrix·(n_a + n_b)`
+/// normalised equals `normalize(n̂_a + n̂_b)` of the eye-space unit normals.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// // Prepare once (vertex stage), draw into as many targets as needed: here the top and
+/// // bottom halves of a 64×48 frame from one 64×24 buffer.
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// assert_eq!(frame.size(), (64, 48));
+/// let (mut px, mut z) = ([0u16; 64 * 24], [0u16; 64 * 24]);
+/// let mut covered = 0;
+/// for y0 in [0, 24] {
+///     let mut strip = Strip::new(&mut px, Some(&mut z), 64, 48, y0, 24).unwrap();
+///     strip.clear(0);
+///     covered += frame.draw::<Gradient, _>(&mut strip).unwrap().pixels;
+///     // ... send strip.color() to the display
+/// }
+/// assert!(covered > 300);
+/// ```
+pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
+    pub(super) scene: &'s Scene<'a>,
+    pub(super) cache: &'c [XfVertex],
+    /// Where the back colours of two-sided lighting start in the cache (the scene's
+    /// vertex count; unused by one-sided lighting).
+    back: usize,
+    /// Each object's first vertex in the cache.
+    offsets: heapless::Vec<usize, MAX_OBJECTS>,
+    /// The frame's view and projection matrices (for [`Prepared::clip`]).
+    view: Mat4,
+    proj: Mat4,
+    /// The frame's projection (dereferences to its [`Viewport`]).
+    pub(super) vp: Projector,
+    _format: PhantomData<(P, Sp)>,
+}
+
+impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
+    /// Runs the vertex stage with exact Blinn specular ([`BlinnExact`]).
+    pub fn prepare(
+        scene: &'s Scene<'a>,
+        width: u32,
+        height: u32,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Self, RenderError> {
+        Self::prepare_with::<BlinnExact>(scene, width, height, cache)
+    }
+
+    /// Runs the vertex stage with the specular model `Sp`.
+    pub fn prepare_with<Sp: Specular>(
+        scene: &'s Scene<'a>,
+        width: u32,
+        height: u32,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Frame<'s, 'a, 'c, P, Sp>, RenderError> {
+        if width == 0 || width > 4096 || height == 0 || height > 4096 {
+            return Err(RenderError::BadSize);
+        }
+        // Two-sided lighting keeps the back colours in a second half of the cache.
+        let count = scene.vertex_count();
+        let needed = Frame::<P, Sp>::cache_len(scene);
+        if cache.len() < needed {
+            return Err(RenderError::CacheTooSmall { needed });
+        }
+        let view = scene.camera.view().ok_or(RenderError::BadView)?;
+        let proj = scene
+            .camera
+            .projection_matrix(width, height)
+            .ok_or(RenderError::BadProjection)?;
+        let vp = Viewport { width, height };
+        // One clip scale for the frame: from how far any vertex lies from the eye,
+        // per eye-space coordinate (the view is rigid, the model a rotation and a
+        // uniform scale: |offset from the object's origin| ≤ scale·√3·bound).
+        let reach = scene.objects.iter().fold(0i64, |r, obj| {
+            let pl = &obj.placement;
+            let origin = view.transform_point(pl.translate);
+            let far = origin.iter().map(|c| c.saturating_abs()).max().unwrap_or(0);
+            let extent = 2 * (pl.scale.to_bits().unsigned_abs() as i64) * obj.mesh.bound() as i64;
+            r.max(far.saturating_add(extent))
+        });
+        let depth_range = match scene.camera.projection {
+            Projection::Perspective { near, far, .. } => Some((near, far)),
+            Projection::Orthographic { .. } => None,
+        };
+        let proj_map =
+            Projector::new(vp, &proj, depth_range, reach).ok_or(RenderError::BadProjection)?;
+        let mut offsets = heapless::Vec::new();
+        let mut offset = 0;
+        let (front, back) = cache.split_at_mut(count);
+        for (i, obj) in scene.objects.iter().enumerate() {
+            let mv = view.mul(&obj.placement.matrix());
+            let clip = object_transform(&mv, &proj, &proj_map, obj)
+                .ok_or(RenderError::SingularModel { object: i })?;
+            // A singular model (scale 0) has no normals.
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let light = LightingSetup::<Sp>::new(
+                &scene.lights,
+                &view,
+                &obj.material,
+                scene.global_ambient,
+                scene.local_viewer,
+            );
+            let mesh = &obj.mesh;
+            let out = &mut front[offset..offset + mesh.positions().len()];
+            // 1. Transform and project every vertex once.
+            let pos = mesh.positions();
+            use crate::math::PositionShift as Sh;
+            let outside = match (proj_map.perspective_depth(), clip.form()) {
+                (Some(d), (13, Sh::None)) => {
+                    project_perspective::<13, 0>(out, pos, &clip, &proj_map, d)
+                }
+                (Some(d), (13, _)) => project_perspective::<13, 1>(out, pos, &clip, &proj_map, d),
+                (Some(d), (_, Sh::Right)) => {
+                    project_perspective::<11, 2>(out, pos, &clip, &proj_map, d)
+                }
+                (Some(d), _) => project_perspective::<11, 1>(out, pos, &clip, &proj_map, d),
+                (None, (13, _)) => project_general::<13, 1>(out, pos, &clip, &proj_map),
+                (None, (_, Sh::Right)) => project_general::<11, 2>(out, pos, &clip, &proj_map),
+                (None, _) => project_general::<11, 1>(out, pos, &clip, &proj_map),
+            };
+            // 2. Cull before lighting: only vertices of triangles that may be drawn
+            //    are lit (the flags are read only if some vertex is outside).
+            let tris = mesh.triangles();
+            match (scene.cull_back, outside) {
+                (true, true) => mark_needed::<true, true, SMALL_AREA>(out, tris, &vp),
+                (true, false) => mark_needed::<true, false, SMALL_AREA>(out, tris, &vp),
+                (false, true) => mark_needed::<false, true, SMALL_AREA>(out, tris, &vp),
+                (false, false) => mark_needed::<false, false, SMALL_AREA>(out, tris, &vp),
+            }
+            // 3. Light the vertices that are needed, in eye space.
+            light_needed::<P, Sp>(out, pos, mesh.normals(), &aff, &light);
+            if Sp::TWO_SIDED {
+                // 4. Two-sided: the same vertices with the negated normal and the
+                //    back material (the front material when the object has none).
+                let back_light = LightingSetup::<Sp>::new(
+                    &scene.lights,
+                    &view,
+                    obj.back_material.unwrap_or(&obj.material),
+                    scene.global_ambient,
+                    scene.local_viewer,
+                );
+                let b = &mut back[offset..offset + pos.len()];
+                light_back::<P, Sp>(b, out, pos, mesh.normals(), &aff, &back_light);
+            }
+            // Capacity equals the scene's object capacity.
+            let _ = offsets.push(offset);
+            offset += mesh.positions().len();
+        }
+        Ok(Frame {
+            scene,
+            cache,
+            back: count,
+            offsets,
+            view,
+            proj,
+            vp: proj_map,
+            _format: PhantomData,
+        })
+    }
+}
+
+impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
+    /// The vertex cache entries a frame of `scene` needs: one per vertex
+    /// ([`Scene::vertex_count`]), twice that under two-sided lighting
+    /// ([`crate::effects::TwoSided`], whose back colours take the second half).
+    ///
+    /// ```
+    /// use fixshade::effects::TwoSided;
+    /// use fixshade::prelude::*;
+    /// # let scene = fixshade::doc_support::scene();
+    /// assert_eq!(Frame::<Gray8>::cache_len(&scene), 3);
+    /// assert_eq!(Frame::<Gray8, TwoSided>::cache_len(&scene), 6);
+    /// ```
+    pub fn cache_len(scene: &Scene<'_>) -> usize {
+        if Sp::TWO_SIDED {
+            2 * scene.vertex_count()
+        } else {
+            scene.vertex_count()
+        }
+    }
+
+    /// Every object with what its draw needs of the vertex stage.
+    pub(super) fn prepared(&self) -> impl Iterator<Item = (&'s Object<'a>, Prepared<'_>)> + '_ {
+        let scene: &'s Scene<'a> = self.scene;
+        scene
+            .objects
+            .iter()
+            .zip(self.offsets.iter())
+            .map(move |(obj, &offset)| {
+                (
+                    obj,
+                    Prepared {
+                        offset,
+                        obj,
+                        view: &self.view,
+                        proj: &self.proj,
+                        map: &self.vp,
+                        clip: core::cell::OnceCell::new(),
+                    },
+                )
+            })
+    }
+
+    /// The cache entries of an object's `n` vertices from `offset`, front and back:
+    /// the back entries hold the back colours of two-sided lighting; one-sided,
+    /// they are the front entries again.
+    #[inline(always)]
+    fn sides(&self, offset: usize, n: usize) -> (&[XfVertex], &[XfVertex]) {
+        let front = &self.cache[offset..offset + n];
+        if Sp::TWO_SIDED {
+            let b = self.back + offset;
+            (front, &self.cache[b..b + n])
+        } else {
+            (front, front)
+        }
+    }
+
+    /// An object's lighting setup for its back faces under two-sided lighting: the
+    /// back material, or the front one when it has none.
+    fn back_lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
+        LightingSetup::<Sp>::new(
+            &self.scene.lights,
+            view,
+            obj.back_material.unwrap_or(&obj.material),
+            self.scene.global_ambient,
+            self.scene.local_viewer,
+        )
+    }
+
+    /// Builds an object's lighting setup for this frame's specular model.
+    pub(super) fn lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
+        LightingSetup::<Sp>::new(
+            &self.scene.lights,
+            view,
+            &obj.material,
+            self.scene.global_ambient,
+            self.scene.local_viewer,
+        )
+    }
+
+    /// Draws with the scene's depth and shading settings and the span method `S`.
+    pub fn draw<S: SpanMethod, T: Target<P>>(&self, target: &mut T) -> Result<Stats, RenderError> {
+        if self.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        match (self.scene.depth_test, self.scene.shading) {
+            (true, ShadingMode::Gouraud) => self.draw_with::<S, DepthTest, Gouraud, T>(target),
+            (true, ShadingMode::Flat) => self.draw_with::<S, DepthTest, Flat, T>(target),
+            (false, ShadingMode::Gouraud) => self.draw_with::<S, NoDepth, Gouraud, T>(target),
+            (false, ShadingMode::Flat) => self.draw_with::<S, NoDepth, Flat, T>(target),
+            (true, ShadingMode::Quadratic) => self.draw_with::<S, DepthTest, Quadratic, T>(target),
+            (false, ShadingMode::Quadratic) => self.draw_with::<S, NoDepth, Quadratic, T>(target),
+            (true, ShadingMode::Phong) => self.draw_with::<S, DepthTest, Phong, T>(target),
+            (false, ShadingMode::Phong) => self.draw_with::<S, NoDepth, Phong, T>(target),
+            (true, ShadingMode::PhongEvenOdd) => {
+                self.draw_with::<S, DepthTest, PhongEvenOdd, T>(target)
+            }
+            (false, ShadingMode::PhongEvenOdd) => {
+                self.draw_with::<S, NoDepth, PhongEvenOdd, T>(target)
+            }
+            (true, ShadingMode::Adaptive) => {
+                self.draw_with::<S, DepthTest, crate::shade::Adaptive, T>(target)
+            }
+            (false, ShadingMode::Adaptive) => {
+                self.draw_with::<S, NoDepth, crate::shade::Adaptive, T>(target)
+            }
+        }
+    }
+
+    /// Draws with every variant chosen by type: span method, depth mode, shading.
+    ///
+    /// Quadratic ([`Shading::QUADRATIC`]), Phong ([`Shading::PER_PIXEL`]) and
+    /// adaptive shading have their own fills and take from `S` only its
+    /// [`SpanMethod::Divider`] (for their setup's reciprocal); their coverage is that
+    /// of [`Gradient`].
+    pub fn draw_with<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if Sh::ADAPTIVE {
+            return self.draw_adaptive::<S::Divider, Z, T>(target, None);
+        }
+        if Sh::QUADRATIC {
+            return self.draw_quadratic::<S::Divider, Z, Sh, T>(target);
+        }
+        if Sh::PER_PIXEL {
+            return if Sh::EVEN_ODD {
+                self.draw_phong::<S::Divider, Z, phong::EvenOdd, T>(target, None, None)
+            } else {
+                self.draw_phong::<S::Divider, Z, phong::Rows, T>(target, None, None)
+            };
+        }
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (obj, prep) in self.prepared() {
+            let pos = obj.mesh.positions();
+            let (verts, backs) = self.sides(prep.offset, pos.len());
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                // The back colours (two-sided lighting; one-sided, the same vertices).
+                let b = tri.map(|i| &backs[i as usize]);
+                if !S::SNAPS {
+                    // The usual path: the three vertices are read in place.
+                    let t = tri.map(|i| &verts[i as usize]);
+                    let class = classify_refs(t, cull, &self.vp, rows.clone());
+                    self.draw_classified::<S, Z, Sh, T>(
+                        target,
+                        (t, b),
+                        class,
+                        (pos, tri, &prep),
+                        &mut st,
+                    );
+                    continue;
+                }
+                // A method that moves vertices is culled on the moved ones, and only
+                // triangles drawable before the move are drawn (the vertex stage lit
+                // only their vertices): a sliver that turns front by snapping is
+                // dropped (a documented coverage exception). The test is on the
+                // triangle itself over the whole frame, so the result does not depend
+                // on its neighbours or on the target's rows.
+                let mut t = tri.map(|i| verts[i as usize]);
+                let whole = 0..self.vp.height as i32;
+                if let Class::Skip(why) = classify(&t, cull, &self.vp, whole) {
+                    st.skip(why);
+                    continue;
+                }
+                for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
+                    v.s = S::snap(v.s);
+                }
+                let class = classify(&t, cull, &self.vp, rows.clone());
+                let t = [&t[0], &t[1], &t[2]];
+                self.draw_classified::<S, Z, Sh, T>(
+                    target,
+                    (t, b),
+                    class,
+                    (pos, tri, &prep),
+                    &mut st,
+                );
+            }
+        }
+        Ok(st)
+    }
+
+    /// Draws one triangle of [`Frame::draw_with`] as classified: `t` its vertices
+    /// (snapped for a method that snaps) and `b` its back colours (two-sided
+    /// lighting; otherwise unused), `tri` its indices into the object's positions
+    /// `pos` (clipping transforms them again). Flat shading takes the last vertex's
+    /// colour. A triangle classified inside the guard band goes to the setup
+    /// directly; snapped vertices are tested again, since snapping moves them.
+    #[inline(always)]
+    fn draw_classified<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+        (t, b): ([&XfVertex; 3], [&XfVertex; 3]),
+        class: Class,
+        (pos, tri, prep): (&[Vec3], &[u16; 3], &Prepared<'_>),
+        st: &mut Stats,
+    ) {
+        // Two-sided lighting: a back face takes the back colours.
+        let back = Sp::TWO_SIDED && class == Class::Draw && is_back([&t[0].s, &t[1].s, &t[2].s]);
+        let pick = |v: [&XfVertex; 3], k: usize| if Sh::INTERPOLATE { v[k].s.c } else { v[2].s.c };
+        let colour = |k: usize| if back { pick(b, k) } else { pick(t, k) };
+        match class {
+            Class::Skip(why) => st.skip(why),
+            Class::Draw => {
+                st.drawn += 1;
+                st.pixels += if S::SNAPS {
+                    let s = core::array::from_fn(|k| ScreenVertex {
+                        c: colour(k),
+                        ..t[k].s
+                    });
+                    draw_triangle::<P, T, S, Z, Sh>(target, s)
+                } else if Sh::INTERPOLATE && !back {
+                    // The cached vertices as they are: no copy.
+                    draw_in_guard::<P, T, S, Z, Sh>(target, [&t[0].s, &t[1].s, &t[2].s])
+                } else {
+                    let s: [ScreenVertex; 3] = core::array::from_fn(|k| ScreenVertex {
+                        c: colour(k),
+                        ..t[k].s
+                    });
+                    draw_in_guard::<P, T, S, Z, Sh>(target, [&s[0], &s[1], &s[2]])
+                };
+            }
+            Class::Clip if Sp::TWO_SIDED => {
+                st.clipped += 1;
+                let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                    let (f, r) = (pick(t, k), pick(b, k));
+                    ClipVertex {
+                        pos: prep.clip().transform(&pos[tri[k] as usize]),
+                        c: [f[0], f[1], f[2], r[0], r[1], r[2]],
+                    }
+                });
+                self.clip_fan_sided(cv, self.scene.cull_back, st, |tri, _| {
+                    draw_triangle::<P, T, S, Z, Sh>(target, tri)
+                });
+            }
+            Class::Clip => {
+                st.clipped += 1;
+                let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                    pos: prep.clip().transform(&pos[tri[k] as usize]),
+                    c: colour(k),
+                });
+                self.draw_clipped::<S, Z, Sh, T>(target, cv, self.scene.cull_back, st);
+            }
+        }
+    }
+
+    /// Phong shading with the lighting sampled by pixel segments (seed 002 §2.6, see
+    /// [`Sampling`]): the same coverage and depth as [`Frame::draw_with`] with
+    /// [`crate::shade::Phong`], and with `segment = 1` the same pixels; larger
+    /// segments light fewer pixels ([`Stats::evaluations`]) and interpolate the
+    /// rest where the segment ends differ by at most the threshold. The depth test
+    /// follows the scene.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::phong::Sampling;
+    /// use fixshade::sampler::{Threshold, SEED_K_Q8};
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb888>::prepare(&scene, 64, 64, &mut cache).unwrap();
+    /// let (mut px, mut z) = ([[0u8; 3]; 64 * 64], [0xFFFFu16; 64 * 64]);
+    /// let mut fb = Framebuffer::<Rgb888>::new(&mut px, Some(&mut z), 64, 64).unwrap();
+    /// let k = Threshold::from_q8(SEED_K_Q8, [255; 3]);
+    /// let st = frame.draw_phong_sampled(&mut fb, Sampling { segment: 8, threshold: k }).unwrap();
+    /// assert!(st.evaluations < st.pixels); // fewer lighting evaluations than pixels
+    /// ```
+    pub fn draw_phong_sampled<T: Target<P>>(
+        &self,
+        target: &mut T,
+        sampling: Sampling,
+    ) -> Result<Stats, RenderError> {
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if self.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        if self.scene.depth_test {
+            self.draw_phong::<Exact, DepthTest, phong::Rows, T>(target, Some(sampling), None)
+        } else {
+            self.draw_phong::<Exact, NoDepth, phong::Rows, T>(target, Some(sampling), None)
+        }
+    }
+
+    /// The quadratic path of [`Frame::draw_with`].
+    fn draw_quadratic<D: Divide, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (i, (obj, prep)) in self.prepared().enumerate() {
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let (verts, backs) = self.sides(prep.offset, obj.mesh.positions().len());
+            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
+            let nm = &aff.normal;
+            let light = self.lighting(obj, &view);
+            // Two-sided lighting: back faces take the back colours at the vertices
+            // and light their midpoints with the negated normal and the back material.
+            let back_light = if Sp::TWO_SIDED {
+                Some(self.back_lighting(obj, &view))
+            } else {
+                None
+            };
+            {
+                let shade = |p: [i32; 3], n: [i32; 3], back: bool| match (&back_light, back) {
+                    // Q2.30 components within ±2³⁰: the negation cannot overflow.
+                    (Some(b), true) => b.shade(p, n.map(|c| -c)),
+                    _ => light.shade(p, n),
+                };
+                // The colour lit at the midpoint of the edge a–b.
+                let mid =
+                    |a: usize, b: usize, ca: [i32; 3], cb: [i32; 3], back: bool| -> [i32; 3] {
+                        let m: Vec3 = core::array::from_fn(|k| {
+                            Q16_16::from_bits(
+                                ((pos[a][k].to_bits() as i64 + pos[b][k].to_bits() as i64) >> 1)
+                                    as i32,
+                            )
+                        });
+                        let n: [i64; 3] = core::array::from_fn(|k| {
+                            nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64
+                        });
+                        // Entries < 2^31, components < 2^16: sums of three < 2^49.
+                        let ne: [i64; 3] = core::array::from_fn(|r| {
+                            nm[r][0] as i64 * n[0] + nm[r][1] as i64 * n[1] + nm[r][2] as i64 * n[2]
+                        });
+                        match normalize_to_q30(ne) {
+                            Some(unit) => to_channels::<P>(shade(aff.point(&m), unit, back)),
+                            // Opposite normals: no midpoint normal, average the colours.
+                            None => core::array::from_fn(|k| {
+                                ((ca[k] as i64 + cb[k] as i64) >> 1) as i32
+                            }),
+                        }
+                    };
+                for tri in obj.mesh.triangles() {
+                    st.triangles += 1;
+                    let t = tri.map(|i| verts[i as usize]);
+                    let mut s = [t[0].s, t[1].s, t[2].s];
+                    match classify(&t, cull, &self.vp, rows.clone()) {
+                        Class::Skip(why) => st.skip(why),
+                        Class::Draw => {
+                            let back = Sp::TWO_SIDED && is_back([&s[0], &s[1], &s[2]]);
+                            if back {
+                                for (v, i) in s.iter_mut().zip(tri) {
+                                    v.c = backs[*i as usize].s.c;
+                                }
+                            }
+                            let m = core::array::from_fn(|k| {
+                                let (a, b) = (k, (k + 1) % 3);
+                                mid(tri[a] as usize, tri[b] as usize, s[a].c, s[b].c, back)
+                            });
+                            st.drawn += 1;
+                            st.pixels += draw_quadratic_div::<P, T, Z, D>(target, s, m, Sh::FILL);
+                        }
+                        Class::Clip if Sp::TWO_SIDED => {
+                            st.clipped += 1;
+                            st.fallback += 1;
+                            let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                                let (f, r) = (s[k].c, backs[tri[k] as usize].s.c);
+                                ClipVertex {
+                                    pos: prep.clip().transform(&pos[tri[k] as usize]),
+                                    c: [f[0], f[1], f[2], r[0], r[1], r[2]],
+                                }
+                            });
+                            self.clip_fan_sided(cv, cull, &mut st, |tri, _| {
+                                draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(
+                                    target, tri,
+                                )
+                            });
+                        }
+                        Class::Clip => {
+                            st.clipped += 1;
+                            st.fallback += 1;
+                            let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                                pos: prep.clip().transform(&pos[tri[k] as usize]),
+                                c: s[k].c,
+                            });
+                            self.draw_clipped::<WithDivide<Gradient, D>, Z, Gouraud, T>(
+                                target, cv, cull, &mut st,
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        Ok(st)
+    }
+
+    /// The frame's size in pixels, `(width, height)`: what a target must match.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Gray8>::prepare(&scene, 240, 135, &mut cache).unwrap();
+    /// assert_eq!(frame.size(), (240, 135));
+    /// ```
+    pub fn size(&self) -> (u32, u32) {
+        (self.vp.width, self.vp.height)
+    }
+
+    /// The Phong path of [`Frame::draw_with`]: eye-space normals and positions from
+    /// the mesh (see [`Frame`]), every covered pixel lit with this frame's
+    /// [`LightingSetup`]. Clipped triangles carry normal and position through the
+    /// clipper as six attributes, so they are Phong-shaded too. With `persp` the
+    /// attributes are perspective-correct (unless `sampling` is given).
+    fn draw_phong<D: Divide, Z: DepthMode, F: PhongFill, T: Target<P>>(
+        &self,
+        target: &mut T,
+        sampling: Option<Sampling>,
+        persp: Option<Perspective>,
+    ) -> Result<Stats, RenderError> {
+        // One Phong triangle with its clip-space w: (pixels covered, evaluations).
+        let draw =
+            |target: &mut T, v: [PhongVertex; 3], w: [i64; 3], light: &LightingSetup<Sp>| match (
+                sampling, persp,
+            ) {
+                (Some(sm), _) => draw_phong_sampled::<P, T, Z, _>(target, v, light, sm),
+                (None, Some(m)) => (
+                    draw_phong_perspective::<P, T, Z, D, _>(target, v, w, m, light),
+                    0,
+                ),
+                (None, None) => (draw_phong_div::<P, T, Z, F, D, _>(target, v, light), 0),
+            };
+        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (i, (obj, prep)) in self.prepared().enumerate() {
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+            let light = self.lighting(obj, &view);
+            // Two-sided lighting: back faces lit with the back material's setup and
+            // the interpolated normal negated (the vertex normals negated: Q2.30
+            // components within ±2³⁰, no overflow; the fill renormalises).
+            let back_light = if Sp::TWO_SIDED {
+                Some(self.back_lighting(obj, &view))
+            } else {
+                None
+            };
+            let facing = |back: bool| match (&back_light, back) {
+                (Some(b), true) => (b, -1),
+                _ => (&light, 1),
+            };
+            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
+            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
+            // Eye-space unit normal and position of mesh vertex `i`.
+            let eye = |i: usize| -> ([i32; 3], [i32; 3]) {
+                (eye_normal(&aff, &nrm[i]), aff.point(&pos[i]))
+            };
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t = tri.map(|i| verts[i as usize]);
+                match classify(&t, cull, &self.vp, rows.clone()) {
+                    Class::Skip(why) => st.skip(why),
+                    Class::Draw => {
+                        let back = Sp::TWO_SIDED && is_back([&t[0].s, &t[1].s, &t[2].s]);
+                        let (light, sign) = facing(back);
+                        let pv = core::array::from_fn(|k| {
+                            let (n, p) = eye(tri[k] as usize);
+                            let s = t[k].s;
+                            PhongVertex {
+                                x: s.x,
+                                y: s.y,
+                                z: s.z,
+                                n: if Sp::TWO_SIDED {
+                                    n.map(|c| sign * c)
+                                } else {
+                                    n
+                                },
+                                p,
+                            }
+                        });
+                        st.drawn += 1;
+                        let w = clip_w(persp, prep.clip(), pos, *tri);
+                        let (px, ev) = draw(target, pv, w, light);
+                        st.pixels += px;
+                        st.evaluations += ev;
+                    }
+                    Class::Clip => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                            let (n, p) = eye(tri[k] as usize);
+                            ClipVertex {
+                                pos: prep.clip().transform(&pos[tri[k] as usize]),
+                                c: [n[0], n[1], n[2], p[0], p[1], p[2]],
+                            }
+                        });
+                        let poly = clip_triangle(cv, &self.vp);
+                        let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
+                        let mut pw = [1i64; crate::clip::MAX_POLY];
+                        for ((o, ow), v) in pv
+                            .iter_mut()
+                            .zip(pw.iter_mut())
+                            .zip(poly.v[..poly.len].iter())
+                        {
+                            let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
+                                continue;
+                            };
+                            *ow = v.pos[3];
+                            let c = v.c;
+                            *o = PhongVertex {
+                                x,
+                                y,
+                                z,
+                                n: [c[0], c[1], c[2]],
+                                p: [c[3], c[4], c[5]],
+                            };
+                        }
+                        for k in 1..poly.len.saturating_sub(1) {
+                            let mut tri = [pv[0], pv[k], pv[k + 1]];
+                            let pts = tri.map(|v| (v.x, v.y));
+                            let area = crate::clip::signed_area(pts[0], pts[1], pts[2]);
+                            let front = is_front(pts[0], pts[1], pts[2]);
+                            if area == 0 || (cull && !front) {
+                                continue;
+                            }
+                            let (light, sign) = facing(Sp::TWO_SIDED && !front);
+                            if Sp::TWO_SIDED {
+                                for v in tri.iter_mut() {
+                                    v.n = v.n.map(|c| sign * c);
+                                }
+                            }
+                            st.drawn += 1;
+                            let (px, ev) = draw(target, tri, [pw[0], pw[k], pw[k + 1]], light);
+                            st.pixels += px;
+                            st.evaluations += ev;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(st)
+    }
+
+    fn draw_clipped<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+        t: [ClipVertex; 3],
+        cull: bool,
+        st: &mut Stats,
+    ) {
+        self.clip_fan(t, cull, st, |tri, _| {
+            draw_triangle::<P, T, S, Z, Sh>(target, tri)
+        });
+    }
+
+    /// Clips a triangle and hands each front-facing, non-degenerate triangle of the
+    /// resulting fan to `draw` with its vertices' clip-space w; counts them and the
+    /// pixels `draw` returns in `st`.
+    pub(super) fn clip_fan(
+        &self,
+        t: [ClipVertex; 3],
+        cull: bool,
+        st: &mut Stats,
+        draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
+    ) {
+        self.clip_fan_with(t, cull, st, |c, _| *c, draw);
+    }
+
+    /// [`Frame::clip_fan`] for two-sided lighting: each vertex carries its front
+    /// colour and then its back colour, and each triangle of the fan is drawn with
+    /// the colours of its facing (the same sign test as culling).
+    fn clip_fan_sided(
+        &self,
+        t: [ClipVertex<6>; 3],
+        cull: bool,
+        st: &mut Stats,
+        draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
+    ) {
+        let pick = |c: &[i32; 6], front: bool| {
+            if front {
+                [c[0], c[1], c[2]]
+            } else {
+                [c[3], c[4], c[5]]
+            }
+        };
+        self.clip_fan_with(t, cull, st, pick, draw);
+    }
+
+    /// [`Frame::clip_fan`] with `N` attributes a vertex, of which `pick` makes the
+    /// colour of a fan triangle's vertex given whether the triangle faces front.
+    #[inline(always)]
+    fn clip_fan_with<const N: usize>(
+        &self,
+        t: [ClipVertex<N>; 3],
+        cull: bool,
+        st: &mut Stats,
+        pick: impl Fn(&[i32; N], bool) -> [i32; 3],
+        mut draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
+    ) {
+        let poly = clip_triangle(t, &self.vp);
+        let mut sv = [ScreenVertex::default(); crate::clip::MAX_POLY];
+        let mut w = [0i64; crate::clip::MAX_POLY];
+        for ((o, ow), v) in sv
+            .iter_mut()
+            .zip(w.iter_mut())
+            .zip(poly.v[..poly.len].iter())
+        {
+            let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
+                return;
+            };
+            *o = ScreenVertex { x, y, z, c: [0; 3] };
+            *ow = v.pos[3];
+        }
+        for i in 1..poly.len.saturating_sub(1) {
+            let mut tri = [sv[0], sv[i], sv[i + 1]];
+            let front = is_front(
+                (tri[0].x, tri[0].y),
+                (tri[1].x, tri[1].y),
+                (tri[2].x, tri[2].y),
+            );
+            let area = crate::clip::signed_area(
+                (tri[0].x, tri[0].y),
+                (tri[1].x, tri[1].y),
+                (tri[2].x, tri[2].y),
+            );
+            if area == 0 || (cull && !front) {
+                continue;
+            }
+            for (v, k) in tri.iter_mut().zip([0, i, i + 1]) {
+                v.c = pick(&poly.v[k].c, front);
+            }
+            st.drawn += 1;
+            st.pixels += draw(tri, [w[0], w[i], w[i + 1]]);
+        }
+    }
+
+    /// Draws with perspective-correct Gouraud colours (see [`crate::raster::perspective`]): the
+    /// colour is sampled with one reciprocal through `D` at every pixel or at the
+    /// ends of sub-spans (`mode`), and interpolated linearly in between; coverage and
+    /// depth are those of [`Frame::draw`] with [`Gradient`]. The depth test follows
+    /// the scene.
+    ///
+    /// Phong shading interpolates its normals and eye positions perspective-correctly
+    /// ([`crate::raster::perspective::draw_phong_perspective`]; the even/odd fill
+    /// draws as the one-accumulator fill does), and adaptive shading draws its
+    /// Gouraud triangles and its per-pixel ones each through its perspective fill.
+    /// Flat shading needs no correction, and the quadratic surface draws as
+    /// [`Frame::draw`] draws it (its surface interpolates in screen space).
+    ///
+    /// ```
+    /// use fixshade::divide::Exact;
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::perspective::Perspective;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb888>::prepare(&scene, 64, 64, &mut cache).unwrap();
+    /// let (mut px, mut z) = ([[0u8; 3]; 64 * 64], [0xFFFFu16; 64 * 64]);
+    /// let mut fb = Framebuffer::<Rgb888>::new(&mut px, Some(&mut z), 64, 64).unwrap();
+    /// let st = frame.draw_perspective::<Exact, _>(&mut fb, Perspective::SUB16).unwrap();
+    /// assert!(st.pixels > 0);
+    /// ```
+    pub fn draw_perspective<D: Divide, T: Target<P>>(
+        &self,
+        target: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError> {
+        use ShadingMode as M;
+        let shading = self.scene.shading;
+        if !matches!(
+            shading,
+            M::Gouraud | M::Phong | M::PhongEvenOdd | M::Adaptive
+        ) {
+            return self.draw::<Gradient, T>(target);
+        }
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if self.scene.depth_test && !target.has_depth() {
+            return Err(RenderError::NoDepthBuffer);
+        }
+        // Even/odd Phong draws with the one-accumulator fill (the same pixels).
+        match (shading, self.scene.depth_test) {
+            (M::Gouraud, true) => {
+                self.draw_perspective_as::<D, DepthTest, Gouraud, T>(target, mode)
+            }
+            (M::Gouraud, false) => self.draw_perspective_as::<D, NoDepth, Gouraud, T>(target, mode),
+            (M::Adaptive, true) => {
+                self.draw_perspective_as::<D, DepthTest, Adaptive, T>(target, mode)
+            }
+            (M::Adaptive, false) => {
+                self.draw_perspective_as::<D, NoDepth, Adaptive, T>(target, mode)
+            }
+            (_, true) => self.draw_perspective_as::<D, DepthTest, Phong, T>(target, mode),
+            (_, false) => self.draw_perspective_as::<D, NoDepth, Phong, T>(target, mode),
+        }
+    }
+
+    /// [`Frame::draw_perspective`] with the depth mode and the shading fixed by type,
+    /// as [`Frame::draw_with`] fixes them: only that combination's code is linked (a
+    /// Gouraud-only firmware carries no Phong fill). Flat and quadratic shading draw
+    /// as [`Frame::draw_with`] with [`Gradient`] draws them.
+    ///
+    /// ```
+    /// use fixshade::divide::Exact;
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::perspective::Perspective;
+    /// use fixshade::raster::span::DepthTest;
+    /// use fixshade::shade::Gouraud;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb888>::prepare(&scene, 64, 64, &mut cache).unwrap();
+    /// let (mut px, mut z) = ([[0u8; 3]; 64 * 64], [0xFFFFu16; 64 * 64]);
+    /// let mut fb = Framebuffer::<Rgb888>::new(&mut px, Some(&mut z), 64, 64).unwrap();
+    /// let st = frame
+    ///     .draw_perspective_as::<Exact, DepthTest, Gouraud, _>(&mut fb, Perspective::SUB16)
+    ///     .unwrap();
+    /// assert!(st.pixels > 0);
+    /// ```
+    pub fn draw_perspective_as<D: Divide, Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        target: &mut T,
+        mode: Perspective,
+    ) -> Result<Stats, RenderError> {
+        if !Sh::INTERPOLATE || Sh::QUADRATIC {
+            return self.draw_with::<Gradient, Z, Sh, T>(target);
+        }
+        if target.width() != self.vp.width || target.frame_height() != self.vp.height {
+            return Err(RenderError::TargetSizeMismatch);
+        }
+        if Sh::ADAPTIVE {
+            return self.draw_adaptive::<D, Z, T>(target, Some(mode));
+        }
+        if Sh::PER_PIXEL {
+            return self.draw_phong::<D, Z, phong::Rows, T>(target, None, Some(mode));
+        }
+        Ok(self.draw_perspective_with::<D, Z, T>(target, mode))
+    }
+
+    fn draw_perspective_with<D: Divide, Z: DepthMode, T: Target<P>>(
+        &self,
+        target: &mut T,
+        mode: Perspective,
+    ) -> Stats {
+        let mut st = Stats::default();
+        let cull = self.scene.cull_back;
+        let rows = target.rows();
+        for (obj, prep) in self.prepared() {
+            let pos = obj.mesh.positions();
+            let (verts, backs) = self.sides(prep.offset, pos.len());
+            for tri in obj.mesh.triangles() {
+                st.triangles += 1;
+                let t = tri.map(|i| verts[i as usize]);
+                let mut s = [t[0].s, t[1].s, t[2].s];
+                match classify(&t, cull, &self.vp, rows.clone()) {
+                    Class::Skip(why) => st.skip(why),
+                    Class::Draw => {
+                        st.drawn += 1;
+                        // Two-sided lighting: a back face takes the back colours.
+                        if Sp::TWO_SIDED && is_back([&s[0], &s[1], &s[2]]) {
+                            for (v, i) in s.iter_mut().zip(tri) {
+                                v.c = backs[*i as usize].s.c;
+                            }
+                        }
+                        // Clip-space w, recomputed: the vertex cache keeps none.
+                        let w = tri.map(|i| prep.clip().transform(&pos[i as usize])[3]);
+                        st.pixels +=
+                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, mode);
+                    }
+                    Class::Clip if Sp::TWO_SIDED => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
+                            let (f, r) = (s[k].c, backs[tri[k] as usize].s.c);
+                            ClipVertex {
+                                pos: prep.clip().transform(&pos[tri[k] as usize]),
+                                c: [f[0], f[1], f[2], r[0], r[1], r[2]],
+                            }
+                        });
+                        self.clip_fan_sided(cv, cull, &mut st, |tri, w| {
+                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, tri, w, mode)
+                        });
+                    }
+                    Class::Clip => {
+                        st.clipped += 1;
+                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
+                            pos: prep.clip().transform(&pos[tri[k] as usize]),
+                            c: s[k].c,
+                        });
+                        self.clip_fan(cv, cull, &mut st, |tri, w| {
+                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, tri, w, mode)
+                        });
+                    }
+                }
+            }
+        }
+        st
+    }
+}
+
+/// The clip-space w of the mesh triangle `tri` under `clip` when `persp` asks for
+/// perspective correction (the vertex cache keeps none); else unused, `[1; 3]`.
+pub(super) fn clip_w(
+    persp: Option<Perspective>,
+    clip: &VertexTransform,
+    pos: &[Vec3],
+    tri: [u16; 3],
+) -> [i64; 3] {
+    match persp {
+        Some(_) => tri.map(|i| clip.transform(&pos[i as usize])[3]),
+        None => [1; 3],
+    }
+}
+
+/// The eye-space unit normal (Q2.30) of a mesh normal under `aff`'s normal matrix;
+/// `(0, 0, 1)` for a zero normal.
+pub(super) fn eye_normal(aff: &Affine3, n: &[crate::fixed::Q2_14; 3]) -> [i32; 3] {
+    let nm = &aff.normal;
+    let nv = n.map(|c| c.to_bits());
+    // Entries < 2^31, components < 2^15: sums of three < 2^48.
+    let ne: [i64; 3] = core::array::from_fn(|r| {
+        mul_wide_16(nm[r][0], nv[0]) + mul_wide_16(nm[r][1], nv[1]) + mul_wide_16(nm[r][2], nv[2])
+    });
+    normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30])
+}
+
+/// Projects a clipped vertex ([`Projector::project_clip`]): clamps what rounding in
+/// the clipper may have pushed a hair outside (depth to [0, 1], x and y into the
+/// guard band); a vertex the vertex stage projected gets its cached position.
+/// `None` only if `w ≤ 0`.
+pub(super) fn project_clamped(vp: &Projector, c: [i64; 4]) -> Option<(i32, i32, u32)> {
+    vp.project_clip(c)
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::geometry::Mesh;
+    use crate::raster::GUARD;
+    use std::vec::Vec;
+
+    fn xorshift(seed: &mut u64) -> u64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        *seed
+    }
+
+    /// The cull pass marks exactly what `classify_refs` over the whole frame keeps,
+    /// with and without back-face culling and with either form of the area: small
+    /// and huge triangles, zero areas, vertices outside the guard band, triangles
+    /// beside every edge of the frame.
+    #[test]
+    fn cull_pass_marks_what_classify_keeps() {
+        let mut seed = 0x0bad_cafe_1234_5678u64;
+        let vp = Viewport {
+            width: 320,
+            height: 240,
+        };
+        for round in 0..400 {
+            // Spreads from a few subpixels to the whole guard band.
+            let spread = 1i64 << (2 + round % 15);
+            let centre = |r: u64, size: u32| (r % (16 * size as u64 + 64)) as i64 - 32;
+            let mut verts = [XfVertex::default(); 64];
+            let (cx, cy) = (
+                centre(xorshift(&mut seed), vp.width) * 16,
+                centre(xorshift(&mut seed), vp.height) * 16,
+            );
+            for v in verts.iter_mut() {
+                let mut c = |base: i64| {
+                    let d = (xorshift(&mut seed) % (2 * spread as u64 + 1)) as i64 - spread;
+                    (base + d).clamp(-(GUARD as i64) + 1, GUARD as i64 - 1) as i32
+                };
+                v.s.x = c(cx);
+                v.s.y = c(cy);
+                if round % 2 == 0 && xorshift(&mut seed) % 16 == 0 {
+                    v.flags = OUTSIDE;
+                }
+            }
+            // Some exact zero areas: repeated and collinear vertices.
+            verts[1].s = verts[0].s;
+            verts[3].s.x = 2 * verts[2].s.x - verts[4].s.x;
+            verts[3].s.y = 2 * verts[2].s.y - verts[4].s.y;
+            let tris: [[u16; 3]; 96] = core::array::from_fn(|_| {
+                core::array::from_fn(|_| (xorshift(&mut seed) % 64) as u16)
+            });
+            for cull in [false, true] {
+                let mut want = verts;
+                for tri in &tris {
+                    let t = tri.map(|i| &verts[i as usize]);
+                    if !matches!(
+                        classify_refs(t, cull, &vp, 0..vp.height as i32),
+                        Class::Skip(_)
+                    ) {
+                        for i in tri {
+                            want[*i as usize].flags |= NEEDED;
+                        }
+                    }
+                }
+                for small in [false, true] {
+                    let mut got = verts;
+                    match (cull, small) {
+                        (false, false) => mark_needed::<false, true, false>(&mut got, &tris, &vp),
+                        (false, true) => mark_needed::<false, true, true>(&mut got, &tris, &vp),
+                        (true, false) => mark_needed::<true, true, false>(&mut got, &tris, &vp),
+                        (true, true) => mark_needed::<true, true, true>(&mut got, &tris, &vp),
+                    }
+                    // Without the flags when no vertex is outside.
+                    if verts.iter().all(|v| v.flags & OUTSIDE == 0) {
+                        let mut fast = verts;
+                        match (cull, small) {
+                            (false, false) => {
+                                mark_needed::<false, false, false>(&mut fast, &tris, &vp)
+                            }
+                            (false, true) => {
+                                mark_needed::<false, false, true>(&mut fast, &tris, &vp)
+                            }
+                            (true, false) => {
+                                mark_needed::<true, false, false>(&mut fast, &tris, &vp)
+                            }
+                            (true, true) => mark_needed::<true, false, true>(&mut fast, &tris, &vp),
+                        }
+                        assert_eq!(fast, want, "round {round} cull {cull} small {small}");
+                    }
+                    assert_eq!(got, want, "round {round} cull {cull} small {small}");
+                }
+            }
+        }
+    }
+
+    /// A scene of random meshes under random cameras: some vertices behind the
+    /// near plane, beyond the far plane, outside the guard band.
+    fn random_scene<'a>(
+        seed: &mut u64,
+        pos: &'a [Vec3],
+        nrm: &'a [[crate::fixed::Q2_14; 3]],
+        tris: &'a [[u16; 3]],
+    ) -> Scene<'a> {
+        use crate::fixed::{Angle, Q16_16};
+        use crate::light::{Light, LightKind, Material};
+        use crate::scene::{Camera, Placement};
+        let q = |v: i64| Q16_16::from_bits(v as i32);
+        let mut r = |range: i64| (xorshift(seed) % (2 * range as u64 + 1)) as i64 - range;
+        let eye = [q(r(6 << 16)), q(r(6 << 16)), q(8 << 16)];
+        let mut camera =
+            Camera::perspective(eye, [q(0); 3], Angle::from_degrees(30 + r(25) as i32));
+        if r(3) == 3 {
+            camera.projection = Projection::Orthographic {
+                height: q(4 << 16),
+                near: q(1 << 16),
+                far: q(14 << 16),
+            };
+        } else {
+            camera = camera.with_depth_range(q((1 << 15) + r(1 << 15)), q((12 << 16) + r(4 << 16)));
+        }
+        let mut scene = Scene::new(camera);
+        let white = [Q16_16::ONE; 3];
+        let _ = scene.add_light(Light::directional(
+            [q(r(1 << 16)), q(1 << 16), q(r(1 << 16))],
+            white,
+            white,
+        ));
+        if r(1) == 1 {
+            let mut lamp = Light::directional([q(0); 3], [q(40000); 3], [q(50000); 3]);
+            lamp.kind = LightKind::Point {
+                position: [q(r(3 << 16)), q(2 << 16), q(3 << 16)],
+                attenuation: [Q16_16::ONE, q(3000), q(700)],
+            };
+            lamp.ambient = [q(3000); 3];
+            let _ = scene.add_light(lamp);
+        }
+        scene.local_viewer = r(1) == 1;
+        scene.global_ambient = [q(5000); 3];
+        let mesh = Mesh::new(pos, nrm, tris).unwrap();
+        let mat = Material {
+            specular: [q(40000); 3],
+            shininess: Q16_16::from_int(1 + r(20) as i32 + 20),
+            ..Material::default()
+        };
+        let placement = Placement {
+            translate: [q(r(1 << 16)), q(r(1 << 16)), q(r(1 << 16))],
+            rotate: [
+                Angle::from_degrees(r(180) as i32),
+                Angle::from_degrees(r(180) as i32),
+                Angle::default(),
+            ],
+            scale: q((1 << 16) + r(1 << 15)),
+        };
+        let _ = scene.add_object(crate::scene::Object {
+            mesh,
+            placement,
+            material: mat,
+            back_material: None,
+        });
+        scene
+    }
+
+    /// Random mesh data: positions within ±3 units, unit normals (Q2.14),
+    /// triangles over them.
+    fn random_mesh(seed: &mut u64) -> (Vec<Vec3>, Vec<[crate::fixed::Q2_14; 3]>, Vec<[u16; 3]>) {
+        use crate::fixed::{Q16_16, Q2_14};
+        let n = 300;
+        let mut pos = Vec::new();
+        let mut nrm = Vec::new();
+        for _ in 0..n {
+            let p: [i64; 3] =
+                core::array::from_fn(|_| (xorshift(seed) % (6 << 16)) as i64 - (3 << 16));
+            pos.push(p.map(|c| Q16_16::from_bits(c as i32)));
+            let d: [i64; 3] = core::array::from_fn(|_| (xorshift(seed) % 2001) as i64 - 1000);
+            let u = normalize_to_q30(d).unwrap_or([0, 0, ONE_Q30]);
+            nrm.push(u.map(|c| Q2_14::from_bits(((c + (1 << 15)) >> 16) as i16)));
+        }
+        let tris = (0..2 * n)
+            .map(|_| core::array::from_fn(|_| (xorshift(seed) % n as u64) as u16))
+            .collect();
+        (pos, nrm, tris)
+    }
+
+    /// Every vertex the vertex stage projected gets the same position and depth
+    /// from the clipper's path (`project_clamped` of `VertexTransform::transform`):
+    /// a triangle that goes through the clipper meets its unclipped neighbours
+    /// exactly.
+    #[test]
+    fn clip_path_reproduces_the_vertex_stage() {
+        let mut seed = 0x5eed_0001_dead_beefu64;
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..200 {
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            let mut cache = Vec::new();
+            cache.resize(scene.vertex_count(), XfVertex::default());
+            let frame = Frame::<crate::target::Rgb888>::prepare(
+                &scene,
+                160 + (xorshift(&mut seed) % 200) as u32,
+                120,
+                &mut cache,
+            )
+            .unwrap();
+            let (_, prep) = frame.prepared().next().unwrap();
+            for (v, p) in frame.cache.iter().zip(pos.iter()) {
+                if v.flags & OUTSIDE != 0 {
+                    outside += 1;
+                    continue;
+                }
+                inside += 1;
+                let c = prep.clip().transform(p);
+                assert_eq!(
+                    project_clamped(&frame.vp, c),
+                    Some((v.s.x, v.s.y, v.s.z)),
+                    "{c:?}"
+                );
+            }
+        }
+        assert!(inside > 10_000 && outside > 1_000, "{inside} {outside}");
+    }
+
+    /// Two-sided lighting: the front half of the vertex cache is the one-sided
+    /// vertex stage's, the back half holds every needed vertex lit with its
+    /// negated normal and the back material; with back faces culled, every shading
+    /// draws the one-sided pixels.
+    #[test]
+    fn two_sided_vertex_stage_and_culled_frames() {
+        use crate::effects::TwoSided;
+        use crate::fixed::Q16_16;
+        use crate::light::Material;
+        use crate::target::{Framebuffer, Rgb888};
+        let mut seed = 0x2515_1dedu64;
+        let (w, h) = (96u32, 72u32);
+        let shadings = [
+            ShadingMode::Gouraud,
+            ShadingMode::Flat,
+            ShadingMode::Phong,
+            ShadingMode::Quadratic,
+        ];
+        let mut backs = 0;
+        for round in 0..40 {
+            let back = Material {
+                diffuse: [Q16_16::from_ratio(1, 3), Q16_16::ONE, Q16_16::ZERO],
+                ..Material::default()
+            };
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let mut scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            scene.objects[0].back_material = Some(&back);
+            scene.shading = shadings[round % shadings.len()];
+            let n = scene.vertex_count();
+            let mut one = std::vec![XfVertex::default(); n];
+            let mut two = std::vec![XfVertex::default(); 2 * n];
+            let f1 = Frame::<Rgb888>::prepare(&scene, w, h, &mut one).unwrap();
+            let f2 = Frame::<Rgb888>::prepare_with::<TwoSided>(&scene, w, h, &mut two).unwrap();
+            assert_eq!(&f2.cache[..n], f1.cache);
+            let view = scene.camera.view().unwrap();
+            let obj = &scene.objects[0];
+            let aff = Affine3::new(&view.mul(&obj.placement.matrix())).unwrap();
+            let light = f2.back_lighting(obj, &view);
+            for ((v, b), (p, nn)) in f2.cache[..n]
+                .iter()
+                .zip(&f2.cache[n..])
+                .zip(pos.iter().zip(nrm.iter()))
+            {
+                if v.flags & NEEDED == 0 {
+                    continue;
+                }
+                let unit = eye_normal(&aff, nn).map(|c| -c);
+                let want = to_channels::<Rgb888>(light.shade(aff.point(p), unit));
+                assert_eq!(b.s.c, want);
+                backs += 1;
+            }
+            let draw = |frame: &dyn Fn(&mut Framebuffer<'_, Rgb888>) -> Stats| {
+                let mut px = std::vec![[0u8; 3]; (w * h) as usize];
+                let mut z = std::vec![0xFFFFu16; (w * h) as usize];
+                let st = frame(&mut Framebuffer::new(&mut px, Some(&mut z), w, h).unwrap());
+                (px, st)
+            };
+            let a = draw(&|fb| f1.draw::<Gradient, _>(fb).unwrap());
+            let b = draw(&|fb| f2.draw::<Gradient, _>(fb).unwrap());
+            assert_eq!(a, b, "round {round}");
+        }
+        assert!(backs > 5_000, "{backs}");
+    }
+
+    /// The vertex stage's colours are the eye-space setup's (`LightingSetup::shade`
+    /// of the eye-space normal and position); the object-space lighting
+    /// (`ObjectLighting`, which the vertex stage does not use) against them: within
+    /// 2⁻¹⁰ of the full scale per channel, and on average within 2⁻¹⁵ — both work
+    /// from the mesh's Q2.14 normals; the object-space directions are Q1.15 and
+    /// `cⁿ` amplifies N·H's rounding n-fold.
+    #[test]
+    fn object_lighting_matches_eye_space() {
+        let mut seed = 0x0b1e_c7ed_1234_4321u64;
+        let (mut worst, mut sum, mut count) = (0i64, 0i64, 0i64);
+        for _ in 0..150 {
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            let mut cache = Vec::new();
+            cache.resize(scene.vertex_count(), XfVertex::default());
+            let frame =
+                Frame::<crate::target::Rgb888>::prepare(&scene, 320, 240, &mut cache).unwrap();
+            let view = scene.camera.view().unwrap();
+            let obj = &scene.objects[0];
+            let mv = view.mul(&obj.placement.matrix());
+            let aff = Affine3::new(&mv).unwrap();
+            let light = frame.lighting(obj, &view);
+            let object = light.for_object(&mv);
+            for ((v, p), n) in frame.cache.iter().zip(pos.iter()).zip(nrm.iter()) {
+                if v.flags & NEEDED == 0 {
+                    continue;
+                }
+                let want = to_channels::<crate::target::Rgb888>(
+                    light.shade(aff.point(p), eye_normal(&aff, n)),
+                );
+                // The vertex stage lights in eye space: the same colour.
+                assert_eq!(v.s.c, want);
+                let got = to_channels::<crate::target::Rgb888>(object.shade(p, n));
+                for (g, w) in got.iter().zip(want) {
+                    let d = (*g as i64 - w as i64).abs();
+                    worst = worst.max(d);
+                    sum += d;
+                    count += 1;
+                }
+            }
+        }
+        let full = 255i64 << 16;
+        std::eprintln!("worst {worst} mean {} of {full}", sum / count.max(1));
+        assert!(count > 10_000, "{count}");
+        assert!(worst * 1024 <= full, "worst {worst}");
+        assert!(sum * (1 << 15) <= full * count, "mean {}", sum / count);
+    }
+}
