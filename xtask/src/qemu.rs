@@ -330,12 +330,6 @@ fn ensure_qemu() -> bool {
     have_qemu()
 }
 
-/// Whether the image of `features` in the crate at `dir` is built at opt-level "z"
-/// (see [`cargo_build`]).
-fn for_size(dir: &Path, features: &str) -> bool {
-    dir.ends_with("qemu-microbit") && (features.contains("dividers") || features.contains("scenes"))
-}
-
 fn cargo_build(
     dir: &Path,
     target: Option<&str>,
@@ -360,13 +354,6 @@ fn cargo_build(
         if k.starts_with("CARGO_") && k != "CARGO_HOME" {
             cmd.env_remove(k);
         }
-    }
-    // The micro:bit's divider and scene images hold the code of many span methods or
-    // dividers: at the crate's opt-level "s" it overflows the 256 KiB of flash by up
-    // to 25 KB, so they are built for size ("z"; the bytes drawn are the same, the
-    // instruction counts are not those of the figure images).
-    if for_size(dir, features) {
-        cmd.env("CARGO_PROFILE_RELEASE_OPT_LEVEL", "z");
     }
     eprintln!(
         "xtask: cargo build --release {} (in {})",
@@ -841,9 +828,9 @@ fn tables(
          binning (`Frame::bin`), its `draw` the binning and every band. `helpers` is the\n\
          instructions inside compiler runtime helpers (`__aeabi_*`, `__*di3`, `memcpy`, …)\n\
          during prepare and draw, from QEMU's execution log, and their share of the frame\n\
-         (measured on the full-frame images; `—` on the micro:bit's). The micro:bit's\n\
-         divider and scene images are built at opt-level \"z\" (their code overflows its\n\
-         256 KiB of flash at \"s\"): their counts are not comparable with its figure images'.\n\n",
+         (measured on the full-frame images; `—` on the micro:bit's). Every micro:bit\n\
+         image is built at opt-level \"z\" (boards/qemu-microbit/Cargo.toml: at \"s\" the\n\
+         code of the 15 span methods with a figure's mesh overflows its 256 KiB of flash).\n\n",
     );
     let _ = writeln!(
         md,
