@@ -25,6 +25,7 @@ use fixshade_sim::scene::load::LoadedScene;
 mod dividers;
 mod helpers;
 mod perspective;
+mod report;
 
 /// One firmware image: the board crate, cargo features, the QEMU machine.
 struct Image {
@@ -439,7 +440,7 @@ fn host_frame(
     let mut ls = scenes[figure].clone();
     ls.desc.width = w;
     ls.desc.height = h;
-    if !perspective::apply(&mut ls.desc, case)? {
+    if !report::apply(&mut ls.desc, case)? && !perspective::apply(&mut ls.desc, case)? {
         dividers::apply(&mut ls.desc, case)?;
     }
     match cut {
@@ -509,6 +510,7 @@ pub fn qemu() -> Result<(), String> {
     let out_root = root.join("target").join("qemu");
     let mut rows: Vec<FrameRow> = Vec::new();
     let mut setup_lines = Vec::new();
+    let mut specular_lines = Vec::new();
     let mut sizes = real;
     let mut calibration = Vec::new();
     let mut scenes = HashMap::new();
@@ -524,6 +526,7 @@ pub fn qemu() -> Result<(), String> {
         .iter()
         .chain(dividers::IMAGES)
         .chain(perspective::IMAGES)
+        .chain(report::IMAGES)
     {
         let dir = root.join("boards").join(img.krate);
         cargo_build(
@@ -626,10 +629,11 @@ pub fn qemu() -> Result<(), String> {
             catalogue_skipped.extend(skipped);
             continue;
         }
-        // The full-frame figure images: a second run with the execution log gives
-        // each frame's instructions in compiler runtime helpers, in FRAME order (the
-        // micro:bit's are left out: their logged runs take minutes each).
-        let helper_counts = if img.krate == "qemu-mps2-an386" {
+        // The full-frame span-method images: a second run with the execution log
+        // gives each frame's instructions in compiler runtime helpers, in FRAME
+        // order (the micro:bit's and the sweep images are left out: their logged
+        // runs take minutes each).
+        let helper_counts = if img.krate == "qemu-mps2-an386" && img.features.is_empty() {
             Some(helpers::per_frame(img.machine, img.cpu, &elf, &out_dir)?)
         } else {
             None
@@ -639,6 +643,8 @@ pub fn qemu() -> Result<(), String> {
         for line in log.lines() {
             if line.starts_with("SETUP ") {
                 setup_lines.push(line.to_string());
+            } else if line.starts_with("SPECULAR ") {
+                specular_lines.push(line.to_string());
             } else if line.starts_with("CALIBRATE ") || line.starts_with("STACK ") {
                 calibration.push(line.to_string());
             } else if let Some(rest) = line.strip_prefix("LAYOUT ") {
@@ -707,7 +713,9 @@ pub fn qemu() -> Result<(), String> {
         }
     }
     perspective::check(&rows)?;
-    let (mut md, csv) = tables(&rows, &setup_lines, &sizes, &calibration);
+    report::check(&rows, &specular_lines)?;
+    let specular_csv = report::specular_csv(&specular_lines)?;
+    let (mut md, csv) = tables(&rows, &setup_lines, &sizes, &calibration, &specular_csv);
     md.push_str(&catalogue_table(
         catalogue_frames,
         &catalogue_rows,
@@ -736,9 +744,28 @@ pub fn qemu() -> Result<(), String> {
         ));
     }
     let docs = root.join("docs");
+    let compiler = rustc_version();
+    let _ = write!(
+        md,
+        "\nMade from commit {}. Compiler: `{compiler}`.\n",
+        commit()
+    );
+    if ci {
+        stale_counts(
+            &docs,
+            &compiler,
+            &[
+                ("mcu-instructions.csv", &csv),
+                ("mcu-specular.csv", &specular_csv),
+            ],
+        )?;
+    }
     std::fs::write(docs.join("mcu-instructions.md"), &md).map_err(|e| e.to_string())?;
     std::fs::write(docs.join("mcu-instructions.csv"), &csv).map_err(|e| e.to_string())?;
-    eprintln!("xtask: wrote docs/mcu-instructions.md and docs/mcu-instructions.csv");
+    std::fs::write(docs.join("mcu-specular.csv"), &specular_csv).map_err(|e| e.to_string())?;
+    eprintln!(
+        "xtask: wrote docs/mcu-instructions.md, docs/mcu-instructions.csv and docs/mcu-specular.csv"
+    );
     if checked == 0 {
         return Err("no frames were checked".into());
     }
@@ -747,6 +774,83 @@ pub fn qemu() -> Result<(), String> {
     }
     println!("qemu: {checked} frames bit-identical to the host render of the same scene, method and strip/chunk layout");
     Ok(())
+}
+
+/// The commit the tree is at (`git rev-parse --short HEAD`), "with uncommitted
+/// changes" when the tree differs from it.
+fn commit() -> String {
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .current_dir(root())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match (
+        git(&["rev-parse", "--short", "HEAD"]),
+        git(&["status", "--porcelain"]),
+    ) {
+        (Some(c), Some(s)) if s.is_empty() => format!("`{c}`"),
+        (Some(c), _) => format!("`{c}` with uncommitted changes"),
+        _ => "unknown (no git)".into(),
+    }
+}
+
+/// `rustc --version` (the counts hold for the compiler that built the images).
+fn rustc_version() -> String {
+    Command::new("rustc")
+        .arg("--version")
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map_or("rustc (unknown version)".into(), |o| {
+            String::from_utf8_lossy(&o.stdout).trim().to_string()
+        })
+}
+
+/// Fails when a committed count file differs from what the images measured now,
+/// if the committed docs/mcu-instructions.md names the same compiler (a different
+/// compiler emits different code and counts: then only a note).
+fn stale_counts(docs: &Path, compiler: &str, files: &[(&str, &str)]) -> Result<(), String> {
+    let committed_md =
+        std::fs::read_to_string(docs.join("mcu-instructions.md")).unwrap_or_default();
+    let line = format!("Compiler: `{compiler}`.");
+    if !committed_md.lines().any(|l| l.ends_with(&line)) {
+        eprintln!(
+            "xtask: NOTE: docs/mcu-instructions.md was made with another compiler than `{compiler}`: \
+             the committed counts were not compared"
+        );
+        return Ok(());
+    }
+    for (name, now) in files {
+        let before = std::fs::read_to_string(docs.join(name)).unwrap_or_default();
+        if before != *now {
+            let at = before
+                .lines()
+                .zip(now.lines())
+                .position(|(a, b)| a != b)
+                .map_or("its length".to_string(), |i| format!("line {}", i + 1));
+            return Err(format!(
+                "docs/{name} is stale: the firmware measures other counts (first difference at \
+                 {at}); run `cargo xtask qemu` and commit docs/mcu-instructions.* and \
+                 docs/mcu-specular.csv"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The CSV's `method`, `divide`, `sweep`, `shading`, `specular` and `shininess` of
+/// a case of any figure image (shininess 0: the scene's own).
+fn csv_names(case: &str) -> [&str; 6] {
+    if let Some(n) = report::csv_names(case) {
+        return n;
+    }
+    let (method, divide, sweep) =
+        perspective::csv_names(case).unwrap_or_else(|| dividers::csv_names(case));
+    [method, divide, sweep, "gouraud", "exact", "0"]
 }
 
 /// The ray-caster section of the document.
@@ -807,10 +911,11 @@ fn tables(
     setup: &[String],
     sizes: &[(String, u64, u64)],
     calibration: &[String],
+    specular_csv: &str,
 ) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
-        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep,layout,helpers\n",
+        "board,figure,method,width,height,triangles,drawn,pixels,prepare,draw,total,per_pixel,per_triangle,draw_per_pixel,divide,sweep,layout,helpers,shading,specular,shininess\n",
     );
     md.push_str(
         "# Instructions on Cortex-M0 and Cortex-M4 (QEMU, `-icount shift=10`)\n\n\
@@ -861,11 +966,10 @@ fn tables(
     }
     let mut key = None;
     for r in rows {
-        let (method, divide, sweep) =
-            perspective::csv_names(&r.case).unwrap_or_else(|| dividers::csv_names(&r.case));
+        let [method, divide, sweep, shading, specular, shininess] = csv_names(&r.case);
         let _ = writeln!(
             csv,
-            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep},{},{}",
+            "{},{},{method},{},{},{},{},{},{},{},{},{},{},{},{divide},{sweep},{},{},{shading},{specular},{shininess}",
             r.board,
             r.figure,
             r.width,
@@ -912,7 +1016,8 @@ fn tables(
         );
     }
     md.push_str(&dividers::section(rows));
-    md.push_str(&perspective::section(rows, sizes));
+    md.push_str(&perspective::section(rows));
+    md.push_str(&report::section(rows, specular_csv));
     if !calibration.is_empty() {
         md.push_str("\n## Counter calibration\n\n`CALIBRATE board empty measured expected`: the counter around nothing, and around a loop of\nexactly `expected` instructions. `STACK board bytes`: peak stack (painted RAM).\n\n```text\n");
         for l in calibration {

@@ -15,6 +15,7 @@
 
 #[cfg(feature = "catalogue")]
 pub mod catalogue;
+pub mod report;
 #[cfg(feature = "scenes")]
 pub mod scenes;
 
@@ -430,81 +431,8 @@ pub fn divider_cases<M: Mode, P: PixelFormat, T: Target<P>>(
     )
 }
 
-/// Number of cases in [`quick_divider_cases`].
-pub const QUICK_DIVIDER_CASES: usize = 14;
-
-/// The part of [`divider_cases`] that fits a small flash next to a figure: `exact`
-/// and the dividers of the quick accuracy report (`fixshade report --quick`).
-pub fn quick_divider_cases<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
-    divider_cases!(M, P, T;
-        Exact => "exact",
-        Table => "table",
-        ShiftAdd<4> => "shift-add-4",
-        ShiftAdd<8> => "shift-add-8",
-        ShiftAddRounded<8> => "shift-add-rounded-8",
-        ShiftAdd<12> => "shift-add-12",
-        ShiftAdd<16> => "shift-add-16",
-    )
-}
-
-/// The dividers [`quick_divider_cases`] leaves out, in four parts of the same size
-/// or less, each with `exact` (the image's reference): with the quick part, the
-/// whole of [`divider_cases`] in five small images.
-pub fn more_divider_cases_1<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
-    divider_cases!(M, P, T;
-        Exact => "exact",
-        ShiftAdd<5> => "shift-add-5",
-        ShiftAdd<6> => "shift-add-6",
-        ShiftAdd<7> => "shift-add-7",
-        ShiftAdd<9> => "shift-add-9",
-        ShiftAdd<10> => "shift-add-10",
-        ShiftAdd<11> => "shift-add-11",
-    )
-}
-
-/// See [`more_divider_cases_1`].
-pub fn more_divider_cases_2<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
-    divider_cases!(M, P, T;
-        Exact => "exact",
-        ShiftAdd<13> => "shift-add-13",
-        ShiftAdd<14> => "shift-add-14",
-        ShiftAdd<15> => "shift-add-15",
-        ShiftAddRounded<4> => "shift-add-rounded-4",
-        ShiftAddRounded<5> => "shift-add-rounded-5",
-        ShiftAddRounded<6> => "shift-add-rounded-6",
-    )
-}
-
-/// See [`more_divider_cases_1`].
-pub fn more_divider_cases_3<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); QUICK_DIVIDER_CASES] {
-    divider_cases!(M, P, T;
-        Exact => "exact",
-        ShiftAddRounded<7> => "shift-add-rounded-7",
-        ShiftAddRounded<9> => "shift-add-rounded-9",
-        ShiftAddRounded<10> => "shift-add-rounded-10",
-        ShiftAddRounded<11> => "shift-add-rounded-11",
-        ShiftAddRounded<12> => "shift-add-rounded-12",
-        ShiftAddRounded<13> => "shift-add-rounded-13",
-    )
-}
-
-/// See [`more_divider_cases_1`].
-pub fn more_divider_cases_4<M: Mode, P: PixelFormat, T: Target<P>>(
-) -> [(&'static str, DrawFn<P, T>); 8] {
-    divider_cases!(M, P, T;
-        Exact => "exact",
-        ShiftAddRounded<14> => "shift-add-rounded-14",
-        ShiftAddRounded<15> => "shift-add-rounded-15",
-        ShiftAddRounded<16> => "shift-add-rounded-16",
-    )
-}
-
 /// Number of cases in [`perspective_cases`].
-pub const PERSPECTIVE_CASES: usize = 5;
+pub const PERSPECTIVE_CASES: usize = 6;
 
 /// [`Frame::draw_perspective`] with divider `D` and one division per `SPAN` pixels
 /// (a power of two up to 64, checked at compile time).
@@ -522,13 +450,15 @@ fn perspective_entry<D: Divide, const SPAN: u32, M: Mode, P: PixelFormat, T: Tar
 }
 
 /// Perspective-correct Gouraud colours (`fixshade render --perspective on
-/// --perspective-span N --divide NAME`), named `perspective-N@NAME`: every pixel and
-/// sub-spans of 16, with `exact` and `shift-add-8`; and first `affine@exact`, the
+/// --perspective-span N --divide NAME`), named `perspective-N@NAME`: the accuracy
+/// report's perspective rows (every pixel, sub-spans of 8 and 16 with `exact`, and
+/// sub-spans of 16 with `table` and `shift-add-8`); and first `affine@exact`, the
 /// affine `gradient` fill drawn by `M` (whose coverage and depth the perspective fill
-/// shares), the reference of the others in the same image.
+/// shares), the report's "off" row and the reference of the others in the same image.
 pub fn perspective_cases<M: Mode, P: PixelFormat, T: Target<P>>(
 ) -> [(&'static str, DrawFn<P, T>); PERSPECTIVE_CASES] {
     const _: () = assert!(same(<ShiftAdd<8>>::NAME, "shift-add-8"), "divider name");
+    const _: () = assert!(same(<Table>::NAME, "table"), "divider name");
     [
         (
             "affine@exact",
@@ -539,12 +469,16 @@ pub fn perspective_cases<M: Mode, P: PixelFormat, T: Target<P>>(
             perspective_entry::<Exact, 1, M, P, T>,
         ),
         (
+            "perspective-8@exact",
+            perspective_entry::<Exact, 8, M, P, T>,
+        ),
+        (
             "perspective-16@exact",
             perspective_entry::<Exact, 16, M, P, T>,
         ),
         (
-            "perspective-1@shift-add-8",
-            perspective_entry::<ShiftAdd<8>, 1, M, P, T>,
+            "perspective-16@table",
+            perspective_entry::<Table, 16, M, P, T>,
         ),
         (
             "perspective-16@shift-add-8",

@@ -18,17 +18,12 @@
 //!   order, so the frame has the host's bytes; the vertex stage is simply repeated
 //!   (its instructions are in the `prepare` column).
 //!
-//! With the feature `dividers` the image draws `classic` and `gradient` with the
-//! quick report's dividers instead (`boards/common`'s `quick_divider_cases`; frames
-//! `<figure>-<span>@<divider>`), with `dividers1` to `dividers4` the other dividers
-//! (`more_divider_cases_1` to `_4`): the flash does not hold all of them at once.
-//!
-//! With the feature `perspective` it draws perspective-correct Gouraud colours
-//! instead (`boards/common`'s `perspective_cases`, with the affine `gradient` frame
-//! as reference; frames `<figure>-perspective-<N>@<divider>`, `<figure>-affine@exact`).
+//! The dividers, shading modes, specular models and perspective correction are
+//! measured on the full-frame ARMv6-M image (`boards/qemu-mps2-an386` built for
+//! thumbv6m), whose frames are whole and whose counts carry no strip repetition.
 //!
 //! Run: `cargo run --release --no-default-features --features teapot` in this
-//! directory (default: sphere; `--features sphere,dividers` for the dividers); frame
+//! directory (default: sphere); frame
 //! files land in the current directory.
 #![no_std]
 #![no_main]
@@ -43,14 +38,6 @@ use fixshade::scene::Scene;
 use fixshade::scene::ShadingMode;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
-#[cfg(not(any(
-    feature = "dividers",
-    feature = "dividers1",
-    feature = "dividers2",
-    feature = "dividers3",
-    feature = "dividers4",
-    feature = "perspective"
-)))]
 use fixshade_boards_common::cases;
 use fixshade_boards_common::{mark_off, mark_on, Counter, DrawFn, Fixed, FrameLog};
 use semihosting::io::Write as _;
@@ -251,51 +238,7 @@ fn run() -> Result<(), &'static str> {
         return Err("this image draws Gouraud with the depth test only");
     }
     type Case = Fixed<DepthTest, Gouraud>;
-    #[cfg(not(any(
-        feature = "dividers",
-        feature = "dividers1",
-        feature = "dividers2",
-        feature = "dividers3",
-        feature = "dividers4",
-        feature = "perspective"
-    )))]
     let table = cases::<Case, Rgb565Le, Strip<'_, Rgb565Le, fig::Depth>>();
-    #[cfg(feature = "dividers")]
-    let table = fixshade_boards_common::quick_divider_cases::<
-        Case,
-        Rgb565Le,
-        Strip<'_, Rgb565Le, fig::Depth>,
-    >();
-    #[cfg(feature = "perspective")]
-    let table = fixshade_boards_common::perspective_cases::<
-        Case,
-        Rgb565Le,
-        Strip<'_, Rgb565Le, fig::Depth>,
-    >();
-    #[cfg(feature = "dividers1")]
-    let table = fixshade_boards_common::more_divider_cases_1::<
-        Case,
-        Rgb565Le,
-        Strip<'_, Rgb565Le, fig::Depth>,
-    >();
-    #[cfg(feature = "dividers2")]
-    let table = fixshade_boards_common::more_divider_cases_2::<
-        Case,
-        Rgb565Le,
-        Strip<'_, Rgb565Le, fig::Depth>,
-    >();
-    #[cfg(feature = "dividers3")]
-    let table = fixshade_boards_common::more_divider_cases_3::<
-        Case,
-        Rgb565Le,
-        Strip<'_, Rgb565Le, fig::Depth>,
-    >();
-    #[cfg(feature = "dividers4")]
-    let table = fixshade_boards_common::more_divider_cases_4::<
-        Case,
-        Rgb565Le,
-        Strip<'_, Rgb565Le, fig::Depth>,
-    >();
     for (case, draw) in table {
         let log = frame(
             case,

@@ -15,6 +15,14 @@
 //! (crates/sim-host/scenes/effects/ground-plane.toml, the case where the correction
 //! matters).
 //!
+//! With the feature `report` it draws the accuracy report's other configurations
+//! instead (`boards/common`'s `report`): for sphere, teapot and robot every shading
+//! mode with `gradient` (frames `<figure>-<shading>+gradient@exact`), Phong with the
+//! report's setup dividers (`<figure>-phong+gradient@<divider>`), and for the sphere
+//! every specular model at the report's exponents
+//! (`sphere-phong+gradient@exact+<model>+<n>`); then it logs the instructions of one
+//! `Specular::eval` per model and exponent (`SPECULAR` lines).
+//!
 //! Run: `cargo run --release` in this directory (needs `qemu-system-arm`); the frame
 //! files land in the current directory. `cargo xtask qemu` runs it and compares every
 //! frame with the host.
@@ -28,21 +36,21 @@ use cortex_m_rt::{entry, exception};
 use fixshade::clip::signed_area;
 use fixshade::geometry::MeshError;
 use fixshade::raster::setup::setup;
-use fixshade::render::{Frame, XfVertex, NEEDED, OUTSIDE};
+use fixshade::render::{Frame, Stats, XfVertex, NEEDED, OUTSIDE};
 use fixshade::scene::Scene;
 use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 // The banded frames (`banded`), drawn by the figure image only.
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 use fixshade::{
     raster::{setup::Record, span::Gradient},
-    render::{BandMemory, RenderError, Stats},
+    render::{BandMemory, RenderError},
     target::Strip,
 };
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 use fixshade_boards_common::cases;
-#[cfg(not(feature = "dividers"))]
+#[cfg(not(any(feature = "dividers", feature = "report")))]
 use fixshade_boards_common::SceneSettings;
-use fixshade_boards_common::{Counter, FrameLog};
+use fixshade_boards_common::{Counter, DrawFn, FrameLog};
 use semihosting::io::Write as _;
 #[cfg(feature = "dividers")]
 use {
@@ -236,9 +244,12 @@ unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
 }
 
 /// `<figure>-<case>.rgb565` as a C string in `buf`.
-fn file_name<'b>(buf: &'b mut [u8; 64], figure: &str, case: &str) -> &'b CStr {
+fn file_name<'b>(buf: &'b mut [u8; 80], figure: &str, case: &str) -> &'b CStr {
     let mut n = 0;
     for part in [figure.as_bytes(), b"-", case.as_bytes(), b".rgb565"] {
+        if n + part.len() >= buf.len() {
+            return c"frame.rgb565";
+        }
         buf[n..n + part.len()].copy_from_slice(part);
         n += part.len();
     }
@@ -280,15 +291,15 @@ fn run() -> Result<(), &'static str> {
                 h,
             )
             .map_err(|_| "framebuffer")?;
-            draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
+            draw_figure(fig, &scene, bg, &mut fb, cache, &mut counter)?;
             continue;
         }
         let mut fb = Framebuffer::<Rgb565Le>::new(&mut color[..n], Some(&mut depth[..n]), w, h)
             .map_err(|_| "framebuffer")?;
-        draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
+        draw_figure(fig, &scene, bg, &mut fb, cache, &mut counter)?;
         // The bench spheres drawn in bands too: one binning, then 16-row and 2-row
         // bands (issue "bands for free"), the same bytes as the whole frame.
-        #[cfg(not(any(feature = "dividers", feature = "perspective")))]
+        #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
         if only(fig.name, "gradient") && matches!(fig.name, "bench-sphere" | "bench-sphere-128x80")
         {
             for (rows, layout) in [(16, "bands-16"), (2, "bands-2")] {
@@ -304,17 +315,39 @@ fn run() -> Result<(), &'static str> {
                 )?;
             }
         }
-        if cfg!(not(any(feature = "dividers", feature = "perspective")))
-            && fig.name == "bench-sphere"
+        if cfg!(not(any(
+            feature = "dividers",
+            feature = "perspective",
+            feature = "report"
+        ))) && fig.name == "bench-sphere"
         {
             setup_cost(&scene, w, h, cache, &mut counter)?;
         }
     }
+    #[cfg(feature = "report")]
+    specular_costs(&mut counter);
     Ok(())
+}
+
+/// Draws `fig` with every case of the image into `fb`: the report's configurations
+/// with the feature `report`, else the span methods, dividers or perspective cases.
+fn draw_figure<D: DepthFormat>(
+    fig: &Figure,
+    scene: &Scene<'_>,
+    bg: u16,
+    fb: &mut Framebuffer<'_, Rgb565Le, D>,
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    #[cfg(feature = "report")]
+    return draw_report(fig, scene, bg, fb, cache, counter);
+    #[cfg(not(feature = "report"))]
+    draw_cases(fig, scene, bg, fb, cache, counter)
 }
 
 /// Draws `fig` with every case of the image into `fb` (depth cells `D`, the baked
 /// scene's), writing each frame's file and `FRAME` line.
+#[cfg(not(feature = "report"))]
 fn draw_cases<D: DepthFormat>(
     fig: &Figure,
     scene: &Scene<'_>,
@@ -323,9 +356,7 @@ fn draw_cases<D: DepthFormat>(
     cache: &mut [XfVertex],
     counter: &mut Counter,
 ) -> Result<(), &'static str> {
-    let (w, h) = (fig.width, fig.height);
-    let n = (w * h) as usize;
-    #[cfg(not(any(feature = "dividers", feature = "perspective")))]
+    #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
     let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>();
     // Perspective-correct Gouraud: the figures of the accuracy report and the
     // ground plane (not the bench sphere).
@@ -353,31 +384,148 @@ fn draw_cases<D: DepthFormat>(
         divider_cases::<Fixed<DepthTest, Gouraud>, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>()
     };
     for (case, draw) in table {
-        if !only(fig.name, case) {
-            continue;
-        }
-        fb.clear(bg);
-        let (frame, prepare) =
-            counter.measure(|| Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache[..]));
-        let frame = frame.map_err(|_| "prepare failed")?;
-        let (stats, draw) = counter.measure(|| draw(&frame, fb));
-        let log = FrameLog {
-            layout: "full",
-            width: w,
-            height: h,
-            prepare,
-            draw,
-            stats: stats.map_err(|_| "draw failed")?,
-        };
-        let _ = log.write(&mut Console, BOARD, fig.name, case);
-        let mut name = [0u8; 64];
-        let mut f = semihosting::fs::File::create(file_name(&mut name, fig.name, case))
-            .map_err(|_| "cannot create the frame file")?;
-        let bytes: &[u8] = bytemuck_u16(&fb.color()[..n]);
-        f.write_all(bytes)
-            .map_err(|_| "cannot write the frame file")?;
+        run_case(fig, scene, case, draw, bg, fb, cache, counter)?;
     }
     Ok(())
+}
+
+/// Draws one case of `fig` into `fb` (cleared to `bg`): the vertex stage, then
+/// `draw`; writes the frame's file and `FRAME` line.
+#[allow(clippy::too_many_arguments)]
+fn run_case<'f, D: DepthFormat>(
+    fig: &Figure,
+    scene: &Scene<'_>,
+    case: &str,
+    draw: DrawFn<Rgb565Le, Framebuffer<'f, Rgb565Le, D>>,
+    bg: u16,
+    fb: &mut Framebuffer<'f, Rgb565Le, D>,
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    if !only(fig.name, case) {
+        return Ok(());
+    }
+    let (w, h) = (fig.width, fig.height);
+    fb.clear(bg);
+    let (frame, prepare) =
+        counter.measure(|| Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache[..]));
+    let frame = frame.map_err(|_| "prepare failed")?;
+    let (stats, draw) = counter.measure(|| draw(&frame, fb));
+    let stats = stats.map_err(|_| "draw failed")?;
+    emit(fig, case, "full", prepare, draw, stats, fb.color())
+}
+
+/// Logs a frame's `FRAME` line (layout `layout`) and writes its colour bytes
+/// (`color`, the whole frame) to `<figure>-<case>.rgb565`.
+fn emit(
+    fig: &Figure,
+    case: &str,
+    layout: &'static str,
+    prepare: u64,
+    draw: u64,
+    stats: Stats,
+    color: &[u16],
+) -> Result<(), &'static str> {
+    let (w, h) = (fig.width, fig.height);
+    let log = FrameLog {
+        layout,
+        width: w,
+        height: h,
+        prepare,
+        draw,
+        stats,
+    };
+    let _ = log.write(&mut Console, BOARD, fig.name, case);
+    write_frame(fig, case, color)
+}
+
+/// Writes the colour bytes of a frame of `fig` (`color`, the whole frame) to
+/// `<figure>-<case>.rgb565`.
+fn write_frame(fig: &Figure, case: &str, color: &[u16]) -> Result<(), &'static str> {
+    let mut name = [0u8; 80];
+    let mut f = semihosting::fs::File::create(file_name(&mut name, fig.name, case))
+        .map_err(|_| "cannot create the frame file")?;
+    let n = (fig.width * fig.height) as usize;
+    f.write_all(bytemuck_u16(&color[..n]))
+        .map_err(|_| "cannot write the frame file")
+}
+
+/// The accuracy report's other configurations (see the crate doc) for sphere,
+/// teapot and robot.
+#[cfg(feature = "report")]
+fn draw_report<D: DepthFormat>(
+    fig: &Figure,
+    scene: &Scene<'_>,
+    bg: u16,
+    fb: &mut Framebuffer<'_, Rgb565Le, D>,
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    use fixshade::fixed::Q16_16;
+    use fixshade::scene::ShadingMode;
+    use fixshade_boards_common::report::{phong_setup_cases, shading_cases, specular_cases, Name};
+    if !matches!(fig.name, "sphere" | "teapot" | "robot") {
+        return Ok(());
+    }
+    if !scene.depth_test {
+        return Err("the report cases draw depth-tested scenes only");
+    }
+    let mut scene = scene.clone();
+    for (shading, mode, draw) in shading_cases::<Rgb565Le, Framebuffer<'_, Rgb565Le, D>>() {
+        scene.shading = mode;
+        let mut case = Name::new();
+        let _ = write!(case, "{shading}+gradient@exact");
+        run_case(fig, &scene, case.as_str(), draw, bg, fb, cache, counter)?;
+    }
+    scene.shading = ShadingMode::Phong;
+    for (divider, draw) in phong_setup_cases::<Rgb565Le, Framebuffer<'_, Rgb565Le, D>>() {
+        let mut case = Name::new();
+        let _ = write!(case, "phong+gradient@{divider}");
+        run_case(fig, &scene, case.as_str(), draw, bg, fb, cache, counter)?;
+    }
+    if fig.name != "sphere" {
+        return Ok(());
+    }
+    // The report's exponents (`fixshade_sim::tables::report::SHININESS`; `cargo
+    // xtask qemu` checks that every row of the report was drawn).
+    for n in [8, 32, 128, 512, 1000] {
+        for o in scene.objects.iter_mut() {
+            o.material.shininess = Q16_16::from_int(n);
+        }
+        for (model, draw) in specular_cases::<Rgb565Le, Framebuffer<'_, Rgb565Le, D>>() {
+            let mut case = Name::new();
+            let _ = write!(case, "phong+gradient@exact+{model}+{n}");
+            if !only(fig.name, case.as_str()) {
+                continue;
+            }
+            fb.clear(bg);
+            let (prepare, draw, stats) = draw(&scene, fig.width, fig.height, cache, fb, counter)
+                .map_err(|_| "specular frame failed")?;
+            emit(fig, case.as_str(), "full", prepare, draw, stats, fb.color())?;
+        }
+    }
+    Ok(())
+}
+
+/// Instructions of one `Specular::eval` per model and exponent (the exponents of
+/// `fixshade specular`, `fixshade_sim::tables::specular::NS`), logged as `SPECULAR
+/// board model n evaluations with without`: a loop of evaluations with and without
+/// the call.
+#[cfg(feature = "report")]
+fn specular_costs(counter: &mut Counter) {
+    use fixshade_boards_common::report::{eval_costs, eval_inputs};
+    let mut inputs = [0i32; 1024];
+    eval_inputs(&mut inputs);
+    for n in [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1000] {
+        for (model, cost) in eval_costs() {
+            let (with, without) = cost(n, &inputs, counter);
+            let _ = writeln!(
+                Console,
+                "SPECULAR {BOARD} {model} {n} {} {with} {without}",
+                inputs.len()
+            );
+        }
+    }
 }
 
 /// True unless the build renders some figures and cases only
@@ -395,19 +543,19 @@ fn only(figure: &str, case: &str) -> bool {
 
 /// Records and bins of a banded bench-sphere frame (the 128 × 80 sphere draws 5 384
 /// triangles; a 2-row band index of 2^16 entries holds either sphere's).
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 const RECORDS: usize = 6000;
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 static mut BAND_RECORDS: [Record; RECORDS] = [Record::EMPTY; RECORDS];
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 static mut BAND_INDEX: [u16; 1 << 16] = [0; 1 << 16];
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 static mut BAND_STARTS: [u32; 481] = [0; 481];
 
 /// Draws `fig` with `gradient` in bands of `rows` rows from one binning: the
 /// vertex stage, then the binning and every band, each band into the rows of `fb`
 /// it covers (so the frame file is the whole frame), logged as `layout`.
-#[cfg(not(any(feature = "dividers", feature = "perspective")))]
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 fn banded(
     scene: &Scene<'_>,
     fig: &Figure,
@@ -448,26 +596,22 @@ fn banded(
     if stats.rewalked != 0 {
         return Err("the band memory was too small");
     }
-    let log = FrameLog {
+    // The log names the method; the file, its layout too.
+    let _ = FrameLog {
         layout,
         width: w,
         height: h,
         prepare,
         draw,
         stats,
-    };
-    let _ = log.write(&mut Console, BOARD, fig.name, "gradient");
-    let mut name = [0u8; 64];
+    }
+    .write(&mut Console, BOARD, fig.name, "gradient");
     let case = if rows == 16 {
         "gradient.bands-16"
     } else {
         "gradient.bands-2"
     };
-    let mut f = semihosting::fs::File::create(file_name(&mut name, fig.name, case))
-        .map_err(|_| "cannot create the frame file")?;
-    let n = (w * h) as usize;
-    f.write_all(bytemuck_u16(&fb.color()[..n]))
-        .map_err(|_| "cannot write the frame file")
+    write_frame(fig, case, fb.color())
 }
 
 /// The frame's bytes in memory order (Rgb565Le keeps little-endian bytes in each

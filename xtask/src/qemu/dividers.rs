@@ -1,10 +1,8 @@
 //! The divider sweep of `cargo xtask qemu`. The images built with the feature
-//! `dividers` draw `classic` and `gradient` with the dividers of the `Divide` seam
-//! (boards/common: `divider_cases`, all 28 on the Cortex-M4; on the Cortex-M0, whose
-//! flash holds seven dividers next to a figure's mesh, `quick_divider_cases`, the
-//! quick report's six and `exact`, for every figure, and `more_divider_cases_1` to
-//! `_4`, the other 21 and `exact`, for the sphere). Their frames are named `span@divider`; the host renders
-//! them with that span method and divider (`fixshade render --divide`), as
+//! `dividers` draw `classic` and `gradient` with the 28 dividers of the `Divide`
+//! seam (boards/common: `divider_cases`) on the Cortex-M4 and on the full-frame
+//! ARMv6-M image. Their frames are named `span@divider`; the host renders them with
+//! that span method and divider (`fixshade render --divide`), as
 //! `WithDivide<Classic<D>, D>` and `WithDivide<Gradient, D>`.
 //!
 //! Each image also draws the `exact` pair, so every divider is compared with
@@ -15,41 +13,13 @@ use std::fmt::Write as _;
 
 use fixshade_sim::scene::desc::{DivideName, Named, SceneDesc, SpanName};
 
-use super::{fmt_per, FrameRow, Image, Kind};
+use super::{fmt_per, m4, v6m, FrameRow, Image, Kind};
 
-/// The divider images, run after the others: the Cortex-M4 one, then the
-/// Cortex-M0's quick part for each figure and the four other parts for the sphere.
+/// The divider images, run after the others: the Cortex-M4, then ARMv6-M.
 pub(super) const IMAGES: &[Image] = &[
-    Image {
-        krate: "qemu-mps2-an386",
-        features: "dividers",
-        target: "thumbv7em-none-eabihf",
-        bin: "fixshade-qemu-mps2-an386",
-        machine: "mps2-an386",
-        cpu: "cortex-m4",
-        kind: Kind::Figures,
-    },
-    m0("sphere,dividers"),
-    m0("teapot,dividers"),
-    m0("robot,dividers"),
-    m0("sphere,dividers1"),
-    m0("sphere,dividers2"),
-    m0("sphere,dividers3"),
-    m0("sphere,dividers4"),
+    m4("dividers", "fixshade-qemu-mps2-an386", Kind::Figures),
+    v6m("dividers", "fixshade-qemu-mps2-an386", Kind::Figures),
 ];
-
-/// A Cortex-M0 (micro:bit) image with these features.
-const fn m0(features: &'static str) -> Image {
-    Image {
-        krate: "qemu-microbit",
-        features,
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    }
-}
 
 /// `span@divider` → `(span, divider)`; `None` for a case of the span-method images.
 pub(super) fn split(case: &str) -> Option<(&str, &str)> {
@@ -86,7 +56,11 @@ pub(super) fn csv_names(case: &str) -> (&str, &str, &str) {
 pub(super) fn section(rows: &[FrameRow]) -> String {
     let div: Vec<&FrameRow> = rows
         .iter()
-        .filter(|r| split(&r.case).is_some() && !super::perspective::is_case(&r.case))
+        .filter(|r| {
+            split(&r.case).is_some()
+                && !super::perspective::is_case(&r.case)
+                && !super::report::is_case(&r.case)
+        })
         .collect();
     if div.is_empty() {
         return String::new();
@@ -96,17 +70,12 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
          `classic` (the divider in its per-span division and in the setup's reciprocal)\n\
          and `gradient` (the divider in the setup's reciprocal) with each divider of the\n\
          `Divide` seam, drawn as `fixshade render --divide NAME` draws them and compared\n\
-         byte for byte with that host render (on the Cortex-M0, rendering the same strips\n\
-         and mesh chunks). The Cortex-M4 image draws every divider on sphere, teapot and\n\
-         robot. The Cortex-M0's 256 KiB of flash hold seven dividers next to a mesh: its\n\
-         images draw the sphere with every divider (five images) and teapot and robot with\n\
-         the quick report's dividers only (`table`, `shift-add-4/8/12/16`,\n\
-         `shift-add-rounded-8`; the other 21 stay `not measured` there). Each image\n\
-         draws the `exact` pair too, and every ratio is to that `exact`, compiled into the\n\
-         same image (the `exact` row shows the first image's). Per pixel and per\n\
-         triangle are the whole frame (vertex stage and draw) as above; `draw ×` compares\n\
-         the rasterizer alone (the vertex stage does not divide), which on the Cortex-M0\n\
-         is a small part of the frame.\n",
+         byte for byte with that host render. The Cortex-M4 and the full-frame ARMv6-M\n\
+         images draw every divider on sphere, teapot, robot and the bench spheres at\n\
+         320 × 240. Each image draws the `exact` pair too, and every ratio is to that\n\
+         `exact`, compiled into the same image. Per pixel and per triangle are the whole\n\
+         frame (vertex stage and draw) as above; `draw ×` compares the rasterizer alone\n\
+         (the vertex stage does not divide).\n",
     );
     let mut keys: Vec<(&str, &str)> = Vec::new();
     for r in &div {
@@ -125,7 +94,7 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
                 .copied()
         };
         // The `exact` frame drawn last up to `r` in the log (each image draws its
-        // `exact` pair first; the M0 sphere takes five images).
+        // `exact` pair first).
         let exact_for = |r: &FrameRow, span: &str| {
             let i = here.iter().position(|x| std::ptr::eq(**x, r))?;
             here[..=i]

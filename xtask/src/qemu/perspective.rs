@@ -1,67 +1,50 @@
 //! The perspective-correct Gouraud fill in `cargo xtask qemu`. The images built with
-//! the feature `perspective` draw `boards/common`'s `perspective_cases`:
-//! `Frame::draw_perspective` at every pixel (`perspective-1@D`) and per sub-span of
-//! 16 pixels (`perspective-16@D`) with the dividers `exact` and `shift-add-8`, and
-//! the affine `gradient` fill of the same image (`affine@exact`) as reference. The
-//! host renders them as `fixshade render --perspective on --perspective-span N
-//! --divide D` (`--perspective off --span gradient` for `affine@exact`); the
-//! Cortex-M0 frames through `render_chunked` (its strips and mesh chunks).
+//! the feature `perspective` draw `boards/common`'s `perspective_cases`, the
+//! accuracy report's perspective rows: `Frame::draw_perspective` at every pixel
+//! (`perspective-1@exact`), per sub-span of 8 and 16 pixels (`perspective-8@exact`,
+//! `perspective-16@D` with `exact`, `table`, `shift-add-8`), and the affine
+//! `gradient` fill of the same image (`affine@exact`) as reference. The host renders
+//! them as `fixshade render --perspective on --perspective-span N --divide D`
+//! (`--perspective off --span gradient` for `affine@exact`).
 //!
-//! The Cortex-M4 image draws sphere, teapot, robot and the effects table's ground
-//! plane (baked into boards/baked/full/ground_plane.rs), the Cortex-M0 images one
-//! figure each. A missing frame fails the task, as a differing one does.
+//! The Cortex-M4 and the full-frame ARMv6-M images draw sphere, teapot, robot and
+//! the effects table's ground plane (baked into boards/baked/full/ground_plane.rs).
+//! A missing frame fails the task, as a differing one does.
 
 use std::fmt::Write as _;
 
 use fixshade_sim::scene::desc::{DivideName, Named, SceneDesc, SpanName};
 
-use super::{fmt_per, FrameRow, Image, Kind};
+use super::{fmt_per, m4, v6m, FrameRow, Image, Kind};
 
-/// The perspective images, run after the others.
+/// The perspective images, run after the others: the Cortex-M4, then ARMv6-M.
 pub(super) const IMAGES: &[Image] = &[
-    Image {
-        krate: "qemu-mps2-an386",
-        features: "perspective",
-        target: "thumbv7em-none-eabihf",
-        bin: "fixshade-qemu-mps2-an386",
-        machine: "mps2-an386",
-        cpu: "cortex-m4",
-        kind: Kind::Figures,
-    },
-    m0("sphere,perspective"),
+    m4("perspective", "fixshade-qemu-mps2-an386", Kind::Figures),
+    v6m("perspective", "fixshade-qemu-mps2-an386", Kind::Figures),
 ];
 
 /// What each image must draw: (board, figures).
 const EXPECTED: &[(&str, &[&str])] = &[
     ("mps2-an386", &["sphere", "teapot", "robot", "ground-plane"]),
-    ("microbit", &["sphere"]),
+    (
+        "mps2-an385-v6m",
+        &["sphere", "teapot", "robot", "ground-plane"],
+    ),
 ];
 
 /// The cases of `perspective_cases` (boards/common), in its order.
 const CASES: &[&str] = &[
     "affine@exact",
     "perspective-1@exact",
+    "perspective-8@exact",
     "perspective-16@exact",
-    "perspective-1@shift-add-8",
+    "perspective-16@table",
     "perspective-16@shift-add-8",
 ];
 
 /// The scene file of a figure only the perspective images draw, relative to the
 /// workspace root.
 const GROUND_PLANE: &str = "crates/sim-host/scenes/effects/ground-plane.toml";
-
-/// A Cortex-M0 (micro:bit) image with these features.
-const fn m0(features: &'static str) -> Image {
-    Image {
-        krate: "qemu-microbit",
-        features,
-        target: "thumbv6m-none-eabi",
-        bin: "fixshade-qemu-microbit",
-        machine: "microbit",
-        cpu: "cortex-m0",
-        kind: Kind::Figures,
-    }
-}
 
 /// What `load::load_arg` loads for a figure: a built-in scene's name, or the
 /// ground plane's scene file.
@@ -141,7 +124,7 @@ pub(super) fn check(rows: &[FrameRow]) -> Result<(), String> {
 
 /// The markdown section: per board and figure, each case against the same image's
 /// affine `gradient`.
-pub(super) fn section(rows: &[FrameRow], sizes: &[(String, u64, u64)]) -> String {
+pub(super) fn section(rows: &[FrameRow]) -> String {
     let here: Vec<&FrameRow> = rows.iter().filter(|r| is_case(&r.case)).collect();
     if here.is_empty() {
         return String::new();
@@ -149,18 +132,17 @@ pub(super) fn section(rows: &[FrameRow], sizes: &[(String, u64, u64)]) -> String
     let mut md = String::from(
         "\n## Perspective-correct Gouraud\n\n\
          `Frame::draw_perspective` (`fixshade render --perspective on --perspective-span N\n\
-         --divide D`): one reciprocal per pixel (`perspective-1`) or per sub-span of 16\n\
-         pixels with linear colours in between (`perspective-16`), with the dividers `exact`\n\
-         and `shift-add-8`, next to the affine `gradient` fill (`gradient`, what the\n\
-         correction replaces; same coverage and depth) drawn by the same image: code layout\n\
-         alone moves counts between images by a few per cent, so each ratio is to that\n\
-         image's own `gradient`. Every frame was compared byte for byte with the host\n\
-         render of the same settings (on the Cortex-M0, rendering the same strips and mesh\n\
-         chunks). The Cortex-M4 image draws sphere, teapot, robot and the effects table's\n\
-         ground plane (crates/sim-host/scenes/effects/ground-plane.toml, a 40 × 40 plane at\n\
-         a grazing angle: the case where the correction matters), the Cortex-M0 image the\n\
-         sphere (sizes of both images in the firmware table above, their stack in the\n\
-         calibration lines). `draw per pixel` is the rasterizer alone per covered pixel,\n\
+         --divide D`): one reciprocal per pixel (`perspective-1`) or per sub-span of 8 or\n\
+         16 pixels with linear colours in between, with the dividers of the accuracy\n\
+         report's perspective rows, next to the affine `gradient` fill (`gradient`, what\n\
+         the correction replaces; same coverage and depth) drawn by the same image: code\n\
+         layout alone moves counts between images by a few per cent, so each ratio is to\n\
+         that image's own `gradient`. Every frame was compared byte for byte with the host\n\
+         render of the same settings. The Cortex-M4 and the full-frame ARMv6-M images draw\n\
+         sphere, teapot, robot and the effects table's ground plane\n\
+         (crates/sim-host/scenes/effects/ground-plane.toml, a 40 × 40 plane at a grazing\n\
+         angle: the case where the correction matters). The micro:bit images draw no\n\
+         perspective-correct frames. `draw per pixel` is the rasterizer alone per covered pixel,\n\
          `per pixel` the whole frame (vertex stage and draw); `draw × gradient` the draw\n\
          against the image's affine `gradient` draw.\n",
     );
@@ -200,55 +182,5 @@ pub(super) fn section(rows: &[FrameRow], sizes: &[(String, u64, u64)]) -> String
             );
         }
     }
-    md.push_str(&m0_room(sizes));
-    md
-}
-
-/// What the Cortex-M0 leaves out, from the measured image sizes: the perspective
-/// fill's flash (the sphere's perspective image minus its span image) against the
-/// room the scene images leave.
-fn m0_room(sizes: &[(String, u64, u64)]) -> String {
-    const FLASH: u64 = 256 * 1024;
-    let flash = |label: &str| sizes.iter().find(|s| s.0 == label).map(|s| s.1);
-    let (Some(persp), Some(spans)) = (
-        flash("qemu-microbit (sphere,perspective)"),
-        flash("qemu-microbit (sphere)"),
-    ) else {
-        return String::new();
-    };
-    let fill = persp.saturating_sub(spans);
-    let others = ["teapot", "robot"]
-        .iter()
-        .filter_map(|f| Some((*f, flash(&format!("qemu-microbit ({f})"))?)))
-        .map(|(f, b)| format!("{f} {b} B + {fill} B = {} B", b + fill))
-        .collect::<Vec<_>>()
-        .join(", ");
-    let mut md = format!(
-        "\nOn the Cortex-M0 the perspective image of the sphere takes {persp} B of the {FLASH} B\n\
-         of flash, {fill} B more than the sphere's span-method image ({spans} B). Teapot and\n\
-         robot are not drawn, to keep the task's time down; by the same difference their\n\
-         images would take about {others} (estimated, not built). The scene catalogue's\n\
-         Cortex-M0 images draw no perspective-correct frames. Free flash of their Gouraud\n\
-         images against the {fill} B the fill added to the sphere's image (the fill, and\n\
-         `Frame::draw`'s fallback for the other shading modes, which `draw_perspective`\n\
-         carries): "
-    );
-    let list = sizes
-        .iter()
-        .filter(|s| s.0.starts_with("qemu-microbit (scenes") && !s.0.contains("flat"))
-        .map(|(l, f, _)| {
-            let free = FLASH.saturating_sub(*f);
-            format!(
-                "{l} {free} B free ({})",
-                if free > fill {
-                    "room for it, not done"
-                } else {
-                    "no room"
-                }
-            )
-        })
-        .collect::<Vec<_>>()
-        .join("; ");
-    let _ = writeln!(md, "{list}.");
     md
 }
