@@ -466,6 +466,21 @@ fn helper_share(r: &FrameRow) -> String {
     }
 }
 
+/// `rows` grouped by board and figure, in the order each pair first appears.
+fn by_board_figure<'r>(rows: &[&'r FrameRow]) -> Vec<Vec<&'r FrameRow>> {
+    let mut groups: Vec<Vec<&FrameRow>> = Vec::new();
+    for r in rows {
+        match groups
+            .iter_mut()
+            .find(|g| g[0].board == r.board && g[0].figure == r.figure)
+        {
+            Some(g) => g.push(r),
+            None => groups.push(vec![r]),
+        }
+    }
+    groups
+}
+
 fn fmt_per(a: u64, b: u64) -> String {
     if b == 0 {
         "-".into()

@@ -291,12 +291,12 @@ fn run() -> Result<(), &'static str> {
                 h,
             )
             .map_err(|_| "framebuffer")?;
-            draw_figure(fig, &scene, bg, &mut fb, cache, &mut counter)?;
+            draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
             continue;
         }
         let mut fb = Framebuffer::<Rgb565Le>::new(&mut color[..n], Some(&mut depth[..n]), w, h)
             .map_err(|_| "framebuffer")?;
-        draw_figure(fig, &scene, bg, &mut fb, cache, &mut counter)?;
+        draw_cases(fig, &scene, bg, &mut fb, cache, &mut counter)?;
         // The bench spheres drawn in bands too: one binning, then 16-row and 2-row
         // bands (issue "bands for free"), the same bytes as the whole frame.
         #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
@@ -327,22 +327,6 @@ fn run() -> Result<(), &'static str> {
     #[cfg(feature = "report")]
     specular_costs(&mut counter);
     Ok(())
-}
-
-/// Draws `fig` with every case of the image into `fb`: the report's configurations
-/// with the feature `report`, else the span methods, dividers or perspective cases.
-fn draw_figure<D: DepthFormat>(
-    fig: &Figure,
-    scene: &Scene<'_>,
-    bg: u16,
-    fb: &mut Framebuffer<'_, Rgb565Le, D>,
-    cache: &mut [XfVertex],
-    counter: &mut Counter,
-) -> Result<(), &'static str> {
-    #[cfg(feature = "report")]
-    return draw_report(fig, scene, bg, fb, cache, counter);
-    #[cfg(not(feature = "report"))]
-    draw_cases(fig, scene, bg, fb, cache, counter)
 }
 
 /// Draws `fig` with every case of the image into `fb` (depth cells `D`, the baked
@@ -450,10 +434,11 @@ fn write_frame(fig: &Figure, case: &str, color: &[u16]) -> Result<(), &'static s
         .map_err(|_| "cannot write the frame file")
 }
 
-/// The accuracy report's other configurations (see the crate doc) for sphere,
-/// teapot and robot.
+/// Draws the accuracy report's other configurations of `fig` (see the crate doc)
+/// for sphere, teapot and robot into `fb`, writing each frame's file and `FRAME`
+/// line.
 #[cfg(feature = "report")]
-fn draw_report<D: DepthFormat>(
+fn draw_cases<D: DepthFormat>(
     fig: &Figure,
     scene: &Scene<'_>,
     bg: u16,

@@ -77,17 +77,8 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
          frame (vertex stage and draw) as above; `draw ×` compares the rasterizer alone\n\
          (the vertex stage does not divide).\n",
     );
-    let mut keys: Vec<(&str, &str)> = Vec::new();
-    for r in &div {
-        if !keys.contains(&(r.board.as_str(), r.figure.as_str())) {
-            keys.push((&r.board, &r.figure));
-        }
-    }
-    for (board, figure) in keys {
-        let here: Vec<&&FrameRow> = div
-            .iter()
-            .filter(|r| r.board == board && r.figure == figure)
-            .collect();
+    for here in super::by_board_figure(&div) {
+        let (board, figure) = (here[0].board.as_str(), here[0].figure.as_str());
         let find = |span: &str, d: &str| {
             here.iter()
                 .find(|r| split(&r.case) == Some((span, d)))
@@ -96,7 +87,7 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
         // The `exact` frame drawn last up to `r` in the log (each image draws its
         // `exact` pair first).
         let exact_for = |r: &FrameRow, span: &str| {
-            let i = here.iter().position(|x| std::ptr::eq(**x, r))?;
+            let i = here.iter().position(|x| std::ptr::eq(*x, r))?;
             here[..=i]
                 .iter()
                 .rev()

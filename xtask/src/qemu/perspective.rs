@@ -146,17 +146,8 @@ pub(super) fn section(rows: &[FrameRow]) -> String {
          `per pixel` the whole frame (vertex stage and draw); `draw × gradient` the draw\n\
          against the image's affine `gradient` draw.\n",
     );
-    let mut keys: Vec<(&str, &str)> = Vec::new();
-    for r in &here {
-        if !keys.contains(&(r.board.as_str(), r.figure.as_str())) {
-            keys.push((&r.board, &r.figure));
-        }
-    }
-    for (board, figure) in keys {
-        let mine: Vec<&&FrameRow> = here
-            .iter()
-            .filter(|r| r.board == board && r.figure == figure)
-            .collect();
+    for mine in super::by_board_figure(&here) {
+        let (board, figure) = (mine[0].board.as_str(), mine[0].figure.as_str());
         let affine = mine.iter().find(|r| r.case == "affine@exact");
         let _ = writeln!(
             md,

@@ -184,17 +184,8 @@ pub(super) fn section(rows: &[FrameRow], specular_csv: &str) -> String {
          draw) per covered pixel, `draw per pixel` the rasterizer alone, `draw × gouraud`\n\
          the draw against the same image's Gouraud `gradient` draw.\n",
     );
-    let mut keys: Vec<(&str, &str)> = Vec::new();
-    for r in &here {
-        if !keys.contains(&(r.board.as_str(), r.figure.as_str())) {
-            keys.push((&r.board, &r.figure));
-        }
-    }
-    for (board, figure) in keys {
-        let mine: Vec<&&FrameRow> = here
-            .iter()
-            .filter(|r| r.board == board && r.figure == figure)
-            .collect();
+    for mine in super::by_board_figure(&here) {
+        let (board, figure) = (mine[0].board.as_str(), mine[0].figure.as_str());
         let gouraud = mine.iter().find(|r| r.case == "gouraud+gradient@exact");
         let _ = writeln!(
             md,
