@@ -121,6 +121,15 @@ const PERSPECTIVE_BOARDS: &[&str] = &["mps2-an386"];
 /// The perspective spans those images draw.
 const PERSPECTIVE_SPANS: &[&str] = &["perspective-1", "perspective-16"];
 
+/// The banded frames those images draw (flat and Gouraud, `gradient`, bands of N
+/// rows from one binning).
+const BAND_SPANS: &[&str] = &[
+    "gradient.bands-1",
+    "gradient.bands-2",
+    "gradient.bands-16",
+    "gradient.bands-240",
+];
+
 /// `perspective-N` → `N`.
 fn perspective_span(span: &str) -> Option<u32> {
     span.strip_prefix("perspective-")?.parse().ok()
@@ -224,7 +233,12 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
             ));
         }
         ls.desc.shading = ShadingName::parse(&r.shading)?;
-        match perspective_span(&r.span) {
+        // A banded frame (`span.bands-N`): the whole frame's bytes.
+        let span = r
+            .span
+            .split_once(".bands-")
+            .map_or(r.span.as_str(), |(s, _)| s);
+        match perspective_span(span) {
             // `fixshade render --perspective on --perspective-span N` (coverage of
             // `gradient`, the scene's divider).
             Some(n) => {
@@ -232,7 +246,7 @@ pub fn check(log: &str, out_dir: &Path) -> Result<Checked, String> {
                 ls.desc.perspective_correct = true;
                 ls.desc.perspective_span = n;
             }
-            None => ls.desc.span = SpanName::parse(&r.span)?,
+            None => ls.desc.span = SpanName::parse(span)?,
         }
         let whole = render::render(&ls, None)?.bytes;
         let host = if r.chunk == 0 && r.rows == 0 {
@@ -362,6 +376,22 @@ pub fn finish(c: &Checked) -> Result<String, String> {
                     case.load()?.desc.camera.projection,
                     fixshade_sim::scene::desc::Projection::Perspective { .. }
                 );
+            for span in BAND_SPANS
+                .iter()
+                .filter(|_| drawn && PERSPECTIVE_BOARDS.contains(board))
+            {
+                for shading in ["flat", "gouraud"] {
+                    let have = c.seen.iter().any(|(b, n, sh, sp)| {
+                        b == board && *n == case.name && sh == shading && sp == span
+                    });
+                    if !have {
+                        return Err(format!(
+                            "{board}: scene case {}: no {shading} frame {span} (bands from one binning)",
+                            case.name
+                        ));
+                    }
+                }
+            }
             for span in PERSPECTIVE_SPANS.iter().filter(|_| perspective_camera) {
                 let have = c.seen.iter().any(|(b, n, sh, sp)| {
                     b == board && *n == case.name && sh == "gouraud" && sp == span
@@ -413,7 +443,9 @@ fn table(frames: usize, rows: &[String], skipped: &[String], stack: &[String]) -
          Phong even/odd and adaptive shading, whose fills ignore the span method; and for\n\
          the cases with a perspective camera in Gouraud shading with perspective-correct\n\
          colours, `Frame::draw_perspective` with `exact` at every pixel and per 16 pixels,\n\
-         spans `perspective-1` and `perspective-16`) and compared byte for byte with the host render of the same case, method, shading and\n\
+         spans `perspective-1` and `perspective-16`; and on the Cortex-M4 in flat and\n\
+         Gouraud shading with `gradient` in bands of 1, 2, 16 and 240 rows from one\n\
+         binning, spans `gradient.bands-N`, compared with the whole frame) and compared byte for byte with the host render of the same case, method, shading and\n\
          layout: {frames} frames, all identical. The Cortex-M4 draws whole frames from whole\n\
          meshes (compared with `render::render`); the Cortex-M0 draws strips of `strip rows`\n\
          rows and meshes in chunks of at most `chunk` vertices (compared with the host\n\

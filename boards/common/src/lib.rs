@@ -530,3 +530,48 @@ impl FrameLog {
         )
     }
 }
+
+/// A case name composed in place (at most 64 bytes; longer text is cut).
+#[derive(Clone, Copy)]
+pub struct Name {
+    buf: [u8; 64],
+    len: usize,
+}
+
+impl Name {
+    /// An empty name.
+    pub const fn new() -> Name {
+        Name {
+            buf: [0; 64],
+            len: 0,
+        }
+    }
+
+    /// The name so far.
+    pub fn as_str(&self) -> &str {
+        // Only whole `&str`s are appended, cut at a character boundary.
+        core::str::from_utf8(&self.buf[..self.len]).unwrap_or("")
+    }
+}
+
+impl Default for Name {
+    fn default() -> Name {
+        Name::new()
+    }
+}
+
+impl core::fmt::Write for Name {
+    fn write_str(&mut self, s: &str) -> core::fmt::Result {
+        let mut take = s.len().min(self.buf.len() - self.len);
+        while !s.is_char_boundary(take) {
+            take -= 1;
+        }
+        self.buf[self.len..self.len + take].copy_from_slice(&s.as_bytes()[..take]);
+        self.len += take;
+        if take < s.len() {
+            Err(core::fmt::Error)
+        } else {
+            Ok(())
+        }
+    }
+}

@@ -448,7 +448,8 @@ fn draw_cases<D: DepthFormat>(
 ) -> Result<(), &'static str> {
     use fixshade::fixed::Q16_16;
     use fixshade::scene::ShadingMode;
-    use fixshade_boards_common::report::{phong_setup_cases, shading_cases, specular_cases, Name};
+    use fixshade_boards_common::report::{phong_setup_cases, shading_cases, specular_cases};
+    use fixshade_boards_common::Name;
     if !matches!(fig.name, "sphere" | "teapot" | "robot") {
         return Ok(());
     }

@@ -8,7 +8,11 @@
 //! (`Frame::draw_perspective` with `exact`, every pixel and sub-spans of 16: span
 //! names `perspective-1`, `perspective-16`). A case with two-sided lighting is drawn
 //! the same way with frames lit two-sided (`fixshade::effects::TwoSided`), except in
-//! adaptive shading, which does not support it. Frames go to the host files
+//! adaptive shading, which does not support it. Each case is drawn once more in
+//! flat and Gouraud shading with `gradient` in bands of 1, 2, 16 and 240 rows from
+//! one binning (`fixshade::linebuf::render_lines`, each band into its rows of the
+//! framebuffer; span names `gradient.bands-N`), which must give the whole frame's
+//! bytes. Frames go to the host files
 //! `<case>-<shading>-<span>.rgb565` (see `fixshade_boards_common::scenes`);
 //! `cargo xtask qemu` builds it (`--features scenes --bin fixshade-mps2-scenes`)
 //! and compares every byte with the host.
@@ -19,8 +23,11 @@ use cortex_m_rt::{entry, exception};
 use fixshade::divide::Exact;
 use fixshade::effects::TwoSided;
 use fixshade::light::{BlinnExact, Specular};
+use fixshade::linebuf::{render_lines, LineBufferProvider};
 use fixshade::raster::perspective::Perspective;
-use fixshade::render::{Frame, XfVertex};
+use fixshade::raster::setup::Record;
+use fixshade::raster::span::Gradient;
+use fixshade::render::{BandMemory, Frame, XfVertex};
 use fixshade::scene::{Projection, Scene, ShadingMode};
 use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
@@ -59,6 +66,18 @@ static mut COLOR: [u16; PIXELS] = [0; PIXELS];
 static mut DEPTH: [u16; PIXELS] = [0; PIXELS];
 /// 32-bit depth cells, for the cases with `depth_bits = 32`.
 static mut DEPTH32: [u32; PIXELS] = [0; PIXELS];
+/// Rows per band of the banded frames.
+const BAND_ROWS: [u32; 4] = [1, 2, 16, 240];
+/// Setup records of a banded frame: more than the largest case's triangles.
+const RECORDS: usize = 8192;
+/// Band index entries: a triangle in every band it reaches (1-row bands: its
+/// height in rows).
+const INDEX: usize = 1 << 19;
+/// Band starts: the tallest case's rows, plus one.
+const STARTS: usize = 4097;
+static mut BAND_RECORDS: [Record; RECORDS] = [Record::EMPTY; RECORDS];
+static mut BAND_INDEX: [u16; INDEX] = [0; INDEX];
+static mut BAND_STARTS: [u32; STARTS] = [0; STARTS];
 static mut CACHE: [XfVertex; VERTICES] = [XfVertex {
     s: fixshade::raster::ScreenVertex {
         x: 0,
@@ -97,13 +116,16 @@ fn run() -> Result<(), &'static str> {
         let c = &mut counter;
         match (case.two_sided, case.depth32) {
             (false, false) => {
-                draw_case::<BlinnExact, u16>(case, &mut scene, color, depth, cache, c)?
+                draw_case::<BlinnExact, u16>(case, &mut scene, color, depth, cache, c)?;
+                draw_bands::<BlinnExact, u16>(case, &mut scene, color, depth, cache, c)?;
             }
             (true, false) => {
-                draw_case::<TwoSided<BlinnExact>, u16>(case, &mut scene, color, depth, cache, c)?
+                draw_case::<TwoSided<BlinnExact>, u16>(case, &mut scene, color, depth, cache, c)?;
+                draw_bands::<TwoSided<BlinnExact>, u16>(case, &mut scene, color, depth, cache, c)?;
             }
             (false, true) => {
-                draw_case::<BlinnExact, u32>(case, &mut scene, color, depth32, cache, c)?
+                draw_case::<BlinnExact, u32>(case, &mut scene, color, depth32, cache, c)?;
+                draw_bands::<BlinnExact, u32>(case, &mut scene, color, depth32, cache, c)?;
             }
             // Each combination is every span method again in flash: only those the
             // catalogue has.
@@ -203,6 +225,105 @@ fn draw_case<Sp: Specular, D: DepthFormat>(
         f.write_all(as_bytes(fb.color()))
             .map_err(|_| "cannot write the frame file")?;
         log.write(BOARD, case.name, "gouraud", span);
+    }
+    Ok(())
+}
+
+/// The whole frame's colour as a line-buffer provider: each band is drawn into its
+/// rows.
+struct FrameRows<'a> {
+    color: &'a mut [u16],
+    width: u32,
+    height: u32,
+}
+
+impl LineBufferProvider for FrameRows<'_> {
+    type Format = Rgb565Le;
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+    fn process_lines(&mut self, lines: core::ops::Range<u32>, render: impl FnOnce(&mut [u16])) {
+        let w = self.width as usize;
+        render(&mut self.color[lines.start as usize * w..lines.end as usize * w]);
+    }
+}
+
+/// Draws `case` lit with `Sp` in flat and Gouraud shading with `gradient` in bands
+/// of each of [`BAND_ROWS`] rows from one binning, into the rows of `color` (depth
+/// cells `D` for one band in `depth`); writes each frame's file and `SCENE` line
+/// (span `gradient.bands-N`). A binning that does not fit the band memory fails
+/// (two-sided frames re-walk by design).
+fn draw_bands<Sp: Specular, D: DepthFormat>(
+    case: &baked::SceneCase,
+    scene: &mut Scene<'static>,
+    color: &mut [u16],
+    depth: &mut [D],
+    cache: &mut [XfVertex],
+    counter: &mut Counter,
+) -> Result<(), &'static str> {
+    use core::fmt::Write as _;
+    // SAFETY: the only references to these buffers, taken here, one call at a time.
+    #[allow(unsafe_code)]
+    let (records, index, starts) = unsafe {
+        (
+            &mut *core::ptr::addr_of_mut!(BAND_RECORDS),
+            &mut *core::ptr::addr_of_mut!(BAND_INDEX),
+            &mut *core::ptr::addr_of_mut!(BAND_STARTS),
+        )
+    };
+    let (w, h) = (case.width, case.height);
+    let n = (w * h) as usize;
+    let bg = Rgb565Le::pack(case.background[0], case.background[1], case.background[2]);
+    for shading in [ShadingMode::Flat, ShadingMode::Gouraud] {
+        scene.shading = shading;
+        for rows in BAND_ROWS {
+            let (frame, prepare) = counter
+                .measure(|| Frame::<Rgb565Le>::prepare_with::<Sp>(scene, w, h, &mut cache[..]));
+            let frame = frame.map_err(|_| "prepare failed")?;
+            let mut lines = FrameRows {
+                color: &mut color[..n],
+                width: w,
+                height: h,
+            };
+            let d = scene.depth_test.then_some(&mut depth[..n]);
+            let (stats, cost) = counter.measure(|| {
+                render_lines::<Gradient, _, _, _>(
+                    &frame,
+                    rows,
+                    BandMemory::new(records, index, starts),
+                    d,
+                    bg,
+                    &mut lines,
+                )
+            });
+            let stats = stats.map_err(|_| "banded draw failed")?;
+            // Two-sided frames keep no records of their back colours: their bands
+            // re-walk the triangles (documented in `Frame::bin`).
+            if stats.rewalked != 0 && !Sp::TWO_SIDED {
+                return Err("a banded frame did not fit the band memory");
+            }
+            let mut log = SceneLog {
+                width: w,
+                height: h,
+                prepare,
+                draw: cost,
+                ..SceneLog::default()
+            };
+            log.add(Ok(stats))?;
+            let mut span = fixshade_boards_common::Name::new();
+            let _ = write!(span, "gradient.bands-{rows}");
+            let mut name = [0u8; 96];
+            let mut f = semihosting::fs::File::create(file_name(
+                &mut name,
+                case.name,
+                shading_name(shading),
+                span.as_str(),
+            ))
+            .map_err(|_| "cannot create the frame file")?;
+            f.write_all(as_bytes(&color[..n]))
+                .map_err(|_| "cannot write the frame file")?;
+            log.write(BOARD, case.name, shading_name(shading), span.as_str());
+        }
     }
     Ok(())
 }
