@@ -376,6 +376,13 @@ fn cargo_build(
 /// Runs an image in `out_dir`; returns its console output.
 fn run_qemu(img: &Image, elf: &Path, out_dir: &Path) -> Result<String, String> {
     std::fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    // The console goes to files, read once QEMU has exited: a pipe nobody drains
+    // while it runs would fill (64 KiB) and QEMU would drop the rest of the log.
+    let (out_file, err_file) = (
+        out_dir.join("qemu-stdout.txt"),
+        out_dir.join("qemu-stderr.txt"),
+    );
+    let create = |p: &Path| std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()));
     let mut child = Command::new("qemu-system-arm")
         .current_dir(out_dir)
         .args(["-cpu", img.cpu, "-machine", img.machine, "-nographic"])
@@ -383,24 +390,26 @@ fn run_qemu(img: &Image, elf: &Path, out_dir: &Path) -> Result<String, String> {
         .args(["-icount", "shift=10", "-kernel"])
         .arg(elf)
         .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
+        .stdout(create(&out_file)?)
+        .stderr(create(&err_file)?)
         .spawn()
         .map_err(|e| format!("cannot start qemu-system-arm: {e}"))?;
     let start = Instant::now();
     loop {
         if let Some(st) = child.try_wait().map_err(|e| e.to_string())? {
-            let out = child
-                .wait_with_output()
-                .map_err(|e| format!("qemu output: {e}"))?;
-            let text = String::from_utf8_lossy(&out.stdout).into_owned();
+            let read = |p: &Path| {
+                std::fs::read(p)
+                    .map(|b| String::from_utf8_lossy(&b).into_owned())
+                    .map_err(|e| format!("{}: {e}", p.display()))
+            };
+            let text = read(&out_file)?;
             if !st.success() {
                 return Err(format!(
                     "{} ({}) exited with {st}\n{}{}",
                     img.krate,
                     img.features,
                     text,
-                    String::from_utf8_lossy(&out.stderr)
+                    read(&err_file)?
                 ));
             }
             return Ok(text);
