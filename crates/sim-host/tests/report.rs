@@ -144,10 +144,10 @@ fn quick_report_writes_table_csv_and_charts() {
     let all_rows = md.split("## All rows").nth(1).expect("full table");
     assert!(!all_rows.contains("not measured"), "a placeholder MCU cell");
     assert!(md.contains("report --quick"));
-    let gradient = format!("| sphere | span | `gradient` |");
+    let gradient = "| sphere | span | `gradient` |";
     let line = md
         .lines()
-        .find(|l| l.starts_with(&gradient))
+        .find(|l| l.starts_with(gradient))
         .expect("gradient row");
     let gi = configs
         .iter()

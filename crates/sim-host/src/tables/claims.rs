@@ -76,7 +76,7 @@ fn read(path: &Path) -> Result<String, String> {
 }
 
 /// Columns of a CSV header by name.
-fn columns<'a>(path: &Path, header: &'a str, names: &[&str]) -> Result<Vec<usize>, String> {
+fn columns(path: &Path, header: &str, names: &[&str]) -> Result<Vec<usize>, String> {
     let h: Vec<&str> = header.split(',').collect();
     names
         .iter()

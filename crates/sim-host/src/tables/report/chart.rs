@@ -319,7 +319,7 @@ fn draw(
     let bounds = Rect {
         x0: x0 + 1,
         y0: y1 + 1,
-        x1: x1,
+        x1,
         y1: y0,
     };
     let chars: Vec<usize> = texts.iter().map(|t| t.chars().count()).collect();

@@ -297,11 +297,11 @@ pub fn markdown(opts: &ReportOptions, rows: &[Row], inputs: &claims::Inputs) -> 
          otherwise. Each row is chosen by a rule in `tables/report/recommend.rs`.\n"
     );
     let _ = writeln!(m, "## Accuracy against MCU instructions\n");
-    for core in 0..BOARDS.len() {
+    for (core, board) in BOARDS.iter().enumerate() {
         let _ = writeln!(
             m,
             "![NMSE against {} instructions per covered pixel]({})\n",
-            BOARDS[core].1,
+            board.1,
             chart::core_file(core)
         );
     }
