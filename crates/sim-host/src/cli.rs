@@ -50,10 +50,10 @@ enum Cmd {
     Compare(CompareArgs),
     /// Accuracy against time for every span method and shading mode: a table, and
     /// DIR/accuracy-vs-time.{md,csv,png}.
-    Report(DocArgs),
+    Report(MeasureArgs),
     /// The specular models against c^n, in renders and in time:
     /// DIR/specular.{md,csv}, DIR/specular-reflectance.png.
-    Specular(DocArgs),
+    Specular(MeasureArgs),
     /// The effects table: --explain, NMSE and time for the scenes in
     /// crates/sim-host/scenes/effects/ (FILE: docs/effects.md, or
     /// out/effects-quick.md with --quick).
@@ -115,6 +115,20 @@ struct DocArgs {
     /// Where to write (a directory for report and specular, a file for effects).
     #[arg(long, value_name = "DIR|FILE")]
     out: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct MeasureArgs {
+    /// A smaller, faster run (CI).
+    #[arg(long)]
+    quick: bool,
+    /// The directory to write into.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// The firmware's instruction counts (report: docs/mcu-instructions.csv,
+    /// specular: docs/mcu-specular.csv). A configuration missing from it is an error.
+    #[arg(long, value_name = "FILE")]
+    mcu_csv: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -215,8 +229,8 @@ pub fn run(args: &[String]) -> Result<String, CliError> {
         Cmd::Render(a) => scene::render(&a.scene, a.output.as_deref(), a.strip, a.explain),
         Cmd::Reference(a) => scene::reference(&a.scene, &a.output, a.phong),
         Cmd::Compare(a) => scene::compare_files(&a.images[0], &a.images[1], a.json),
-        Cmd::Report(a) => tables::report(a.quick, a.out),
-        Cmd::Specular(a) => tables::specular(a.quick, a.out),
+        Cmd::Report(a) => tables::report(a.quick, a.out, a.mcu_csv),
+        Cmd::Specular(a) => tables::specular(a.quick, a.out, a.mcu_csv),
         Cmd::Effects(a) => tables::effects(a.quick, a.out.as_deref()),
         Cmd::RaycastTable(a) => tables::raycast_table(&a.out, a.runs as usize),
         Cmd::Bake(a) => bake::run(&a.input, &a.output, a.chunk.map(|n| n as usize)),

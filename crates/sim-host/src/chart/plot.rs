@@ -42,6 +42,17 @@ impl Canvas {
 
     /// Draws `labels` and writes the canvas to `path` as a PNG.
     pub fn finish(mut self, labels: &[Label], path: &Path) -> Result<(), String> {
+        self.draw_labels(labels);
+        super::png::write_rgb(path, self.width, self.height, &[&self.buf], 1, &[])
+    }
+
+    /// Draws `labels` and returns the canvas as PNG bytes.
+    pub fn png_bytes(mut self, labels: &[Label]) -> Result<Vec<u8>, String> {
+        self.draw_labels(labels);
+        super::png::encode_rgb(self.width, self.height, &self.buf)
+    }
+
+    fn draw_labels(&mut self, labels: &[Label]) {
         let (w, h) = (self.width, self.height);
         for l in labels {
             if l.scale == 1 {
@@ -55,7 +66,6 @@ impl Canvas {
             }
             super::font::draw_text(&mut self.buf, w, h, l.x, l.y, &l.text, l.scale, l.color);
         }
-        super::png::write_rgb(path, w, h, &[&self.buf], 1, &[])
     }
 }
 

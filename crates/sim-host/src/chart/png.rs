@@ -57,6 +57,19 @@ pub fn write_rgb(
     w.finish().map_err(err)
 }
 
+/// One 8-bit RGB frame (`width · height · 3` bytes) encoded as PNG bytes.
+pub fn encode_rgb(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
+    let err = |e: png::EncodingError| format!("cannot encode a PNG: {e}");
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc.write_header().map_err(err)?;
+    w.write_image_data(rgb).map_err(err)?;
+    w.finish().map_err(err)?;
+    Ok(out)
+}
+
 /// Reads a PNG (8-bit RGB or RGBA, or grey; 16-bit samples are stripped to 8).
 pub fn read_rgb(path: &Path) -> Result<Decoded, String> {
     let file =

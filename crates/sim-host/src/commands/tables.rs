@@ -7,8 +7,13 @@ use super::{fail, CliError};
 use crate::tables::{effects, raycast, report, specular};
 
 /// `fixshade report`: accuracy against time, into `out` (default docs/, or
-/// out/report-quick/ with `quick`).
-pub fn report(quick: bool, out: Option<PathBuf>) -> Result<String, CliError> {
+/// out/report-quick/ with `quick`), the MCU columns from `mcu_csv` (default
+/// docs/mcu-instructions.csv).
+pub fn report(
+    quick: bool,
+    out: Option<PathBuf>,
+    mcu_csv: Option<PathBuf>,
+) -> Result<String, CliError> {
     let mut opts = if quick {
         report::ReportOptions::quick()
     } else {
@@ -16,6 +21,9 @@ pub fn report(quick: bool, out: Option<PathBuf>) -> Result<String, CliError> {
     };
     if let Some(dir) = out {
         opts.out_dir = dir;
+    }
+    if let Some(csv) = mcu_csv {
+        opts.mcu_csv = csv;
     }
     let r = report::run_report(&opts).map_err(fail)?;
     let files: Vec<String> = r.files.iter().map(|p| p.display().to_string()).collect();
@@ -28,8 +36,13 @@ pub fn report(quick: bool, out: Option<PathBuf>) -> Result<String, CliError> {
 }
 
 /// `fixshade specular`: the specular models against cⁿ, into `out` (default docs/,
-/// or out/specular-quick/ with `quick`).
-pub fn specular(quick: bool, out: Option<PathBuf>) -> Result<String, CliError> {
+/// or out/specular-quick/ with `quick`), instructions per evaluation from `mcu_csv`
+/// (default docs/mcu-specular.csv).
+pub fn specular(
+    quick: bool,
+    out: Option<PathBuf>,
+    mcu_csv: Option<PathBuf>,
+) -> Result<String, CliError> {
     let mut opts = if quick {
         specular::TableOptions::quick()
     } else {
@@ -37,6 +50,9 @@ pub fn specular(quick: bool, out: Option<PathBuf>) -> Result<String, CliError> {
     };
     if let Some(dir) = out {
         opts.out_dir = dir;
+    }
+    if let Some(csv) = mcu_csv {
+        opts.mcu_csv = csv;
     }
     specular::summary(&opts, quick).map_err(fail)
 }

@@ -36,11 +36,10 @@ pub const DECAY_MIN: f64 = 0.01;
 pub const NMSE_FIGURES: [&str; 2] = ["sphere", "teapot"];
 /// Figures whose whole Phong frames are timed per model (at their own shininess).
 pub const FRAME_FIGURES: [&str; 3] = ["sphere", "teapot", "robot"];
-/// What the MCU column says until the boards provide instruction counts.
-pub const NOT_MEASURED: &str = "not measured";
 /// Header of `specular.csv`.
 pub const CSV_HEADER: &str = "model,n,max_abs,max_abs_epicentre,max_rel_epicentre,\
-max_rel_decay,nmse_sphere,nmse_teapot,ns_per_eval,cost_vs_exact,mcu_instructions";
+max_rel_decay,nmse_sphere,nmse_teapot,ns_per_eval,cost_vs_exact,instr_per_eval_armv6m,\
+instr_per_eval_m4";
 
 /// 2³⁰ as f64.
 const ONE: f64 = (1u64 << 30) as f64;
@@ -65,6 +64,8 @@ pub struct TableOptions {
     pub reflect_steps: usize,
     /// Exponents at which the reflectance is maximised over the incidence angle.
     pub reflect_ns: Vec<f64>,
+    /// Instructions per `eval_wide` call on the boards (`docs/mcu-specular.csv`).
+    pub mcu_csv: PathBuf,
 }
 
 impl TableOptions {
@@ -79,6 +80,7 @@ impl TableOptions {
             shrink: 1,
             reflect_steps: 400,
             reflect_ns: reflect_ns(true),
+            mcu_csv: PathBuf::from(crate::tables::report::MCU_SPECULAR_CSV),
         }
     }
 
@@ -93,6 +95,7 @@ impl TableOptions {
             shrink: 4,
             reflect_steps: 60,
             reflect_ns: reflect_ns(false),
+            mcu_csv: PathBuf::from(crate::tables::report::MCU_SPECULAR_CSV),
         }
     }
 }
@@ -387,12 +390,46 @@ pub struct Table {
     pub normal_curve: Vec<(f64, f64)>,
     /// Reflectance rows at the exponents of the options.
     pub reflect: Vec<ReflectRow>,
+    /// `[model][n]` instructions per `eval_wide` on each core of
+    /// [`crate::tables::report::mcu::BOARDS`].
+    pub mcu: Vec<Vec<[f64; 2]>>,
     /// Options used.
     pub quick: bool,
 }
 
+/// Instructions per evaluation, `[model][n][core]`, from the `mcu-specular.csv`
+/// at `path`; a missing (board, model, n) is an error naming it.
+pub fn mcu_counts(path: &Path) -> Result<Vec<Vec<[f64; 2]>>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let m = crate::tables::claims::parse_mcu_spec(path, &text)?;
+    SpecularName::ALL
+        .iter()
+        .map(|(_, model)| {
+            NS.iter()
+                .map(|&n| {
+                    let at = |k: usize| {
+                        let board = crate::tables::report::mcu::BOARDS[k].0;
+                        m.get(&(board.to_string(), model.to_string(), n))
+                            .copied()
+                            .ok_or_else(|| {
+                                format!(
+                                    "{} has no row for board {board}, model {model}, n = {n}; \
+                                     rerun `cargo xtask qemu`, or pass --mcu-csv",
+                                    path.display()
+                                )
+                            })
+                    };
+                    Ok([at(0)?, at(1)?])
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// Runs every measurement.
 pub fn measure(opts: &TableOptions, quick: bool) -> Result<Table, String> {
+    let mcu = mcu_counts(&opts.mcu_csv)?;
     let models = SpecularName::ALL;
     let errors = models
         .iter()
@@ -473,6 +510,7 @@ pub fn measure(opts: &TableOptions, quick: bool) -> Result<Table, String> {
         frame_ms,
         normal_curve,
         reflect,
+        mcu,
         quick,
     })
 }
@@ -532,6 +570,41 @@ fn model_index(m: SpecularName) -> usize {
         .unwrap_or(0)
 }
 
+/// `specular.csv` with only its deterministic columns computed (errors, NMSE,
+/// instructions per evaluation); the host columns are NaN. For the currency test.
+pub fn deterministic_csv(opts: &TableOptions) -> Result<String, String> {
+    let mcu = mcu_counts(&opts.mcu_csv)?;
+    let errors = SpecularName::ALL
+        .iter()
+        .map(|(m, _)| {
+            NS.iter()
+                .map(|&n| model_errors(*m, n, opts.samples))
+                .collect()
+        })
+        .collect();
+    let mut nmse = Vec::new();
+    for f in NMSE_FIGURES {
+        let base = load::load_arg(f)?;
+        nmse.push(
+            NS.iter()
+                .map(|&n| nmse_row(&base, Some(n), opts.shrink))
+                .collect::<Result<Vec<_>, _>>()?,
+        );
+    }
+    Ok(csv(&Table {
+        errors,
+        nmse,
+        nmse_own: Vec::new(),
+        own_n: Vec::new(),
+        cost: vec![vec![f64::NAN; NS.len()]; SpecularName::ALL.len()],
+        frame_ms: Vec::new(),
+        normal_curve: Vec::new(),
+        reflect: Vec::new(),
+        mcu,
+        quick: false,
+    }))
+}
+
 fn csv(t: &Table) -> String {
     let mut s = String::from(CSV_HEADER);
     s.push('\n');
@@ -540,7 +613,7 @@ fn csv(t: &Table) -> String {
             let e = &t.errors[mi][ni];
             let _ = writeln!(
                 s,
-                "{name},{n},{:e},{:e},{:e},{:e},{:e},{:e},{:.3},{:.3},{NOT_MEASURED}",
+                "{name},{n},{:e},{:e},{:e},{:e},{:e},{:e},{:.3},{:.3},{:.2},{:.2}",
                 e.max_abs,
                 e.max_abs_epicentre,
                 e.max_rel_epicentre,
@@ -549,6 +622,8 @@ fn csv(t: &Table) -> String {
                 t.nmse[1][ni][mi],
                 t.cost[mi][ni],
                 t.cost[mi][ni] / t.cost[0][ni],
+                t.mcu[mi][ni][0],
+                t.mcu[mi][ni][1],
             );
         }
     }
@@ -711,9 +786,20 @@ fn claims(t: &Table) -> Vec<Claim> {
         holds: Some(smed >= 1.7),
         measured: format!(
             "host ns Schlick / cosine-quadratic: median {smed:.2}× over the n of the table \
-             (range {:.2}× to {:.2}×); MCU {NOT_MEASURED}",
+             (range {:.2}× to {:.2}×); instructions per evaluation: median {:.2}× on ARMv6-M, \
+             {:.2}× on Cortex-M4",
             speed.iter().copied().fold(f64::INFINITY, f64::min),
-            speed.iter().copied().fold(0.0, f64::max)
+            speed.iter().copied().fold(0.0, f64::max),
+            median(
+                all.iter()
+                    .map(|&i| t.mcu[sch][i][0] / t.mcu[cq][i][0])
+                    .collect()
+            ),
+            median(
+                all.iter()
+                    .map(|&i| t.mcu[sch][i][1] / t.mcu[cq][i][1])
+                    .collect()
+            )
         ),
     });
     let ex = model_index(SpecularName::EXACT);
@@ -785,8 +871,11 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
     let _ = writeln!(s, "# Specular models against cⁿ\n");
     let _ = writeln!(
         s,
-        "Generated by `{cmd}` (`cargo run --release -p fixshade-sim -- specular`); \
-         every number below comes from that run on the host (machine: 2 cores, shared).{}\n",
+        "{}\n\nGenerated by `{cmd}` (`cargo run --release -p fixshade-sim -- specular`); \
+         every number below comes from that run on the host (machine: 2 cores, shared), \
+         except the instruction counts, read from `{}` (`cargo xtask qemu`).{}\n",
+        crate::tables::provenance::made_line(cmd),
+        opts.mcu_csv.display(),
         if t.quick {
             " **Quick run**: few samples, images shrunk, timings from few repeats; use the full run for figures."
         } else {
@@ -827,7 +916,8 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
          inputs behind `black_box`; all models and n timed in one run, interleaved, median of {} repeats of {} calls. \
          The calls are independent, so this is throughput: the CPU overlaps successive calls, divisions included; \
          models with a zero region get cheaper as n grows because more of the inputs fall in it. \
-         **vs exact**: ratio to `exact` at the same n. **MCU**: instruction counts come with the boards.",
+         **vs exact**: ratio to `exact` at the same n. **instr/eval**: instructions per `eval_wide` call under \
+         QEMU (loop overhead subtracted) on ARMv6-M (`mps2-an385-v6m`) and Cortex-M4 (`mps2-an386`).",
         opts.cost_repeats, opts.cost_evals
     );
     let _ = writeln!(
@@ -838,18 +928,18 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
     let _ = writeln!(s, "## Table\n");
     let _ = writeln!(
         s,
-        "| model | n | max abs | abs epi | rel epi | rel decay | NMSE sphere | NMSE teapot | ns/eval | vs exact | MCU instr. |"
+        "| model | n | max abs | abs epi | rel epi | rel decay | NMSE sphere | NMSE teapot | ns/eval | vs exact | instr/eval ARMv6-M | instr/eval M4 |"
     );
     let _ = writeln!(
         s,
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |"
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for (mi, (_, name)) in SpecularName::ALL.iter().enumerate() {
         for (ni, &n) in NS.iter().enumerate() {
             let e = &t.errors[mi][ni];
             let _ = writeln!(
                 s,
-                "| {name} | {n} | {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {NOT_MEASURED} |",
+                "| {name} | {n} | {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
                 sci(e.max_abs),
                 sci(e.max_abs_epicentre),
                 pct(e.max_rel_epicentre),
@@ -858,6 +948,8 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
                 sci(t.nmse[1][ni][mi]),
                 t.cost[mi][ni],
                 t.cost[mi][ni] / t.cost[0][ni],
+                t.mcu[mi][ni][0],
+                t.mcu[mi][ni][1],
             );
         }
     }
@@ -891,7 +983,7 @@ fn markdown(t: &Table, opts: &TableOptions) -> String {
     let _ = writeln!(
         s,
         "Seed 002 (§2.1–2.5, §3.1, §3.4). \"n < 170\" is checked on the rows n ≤ 128, \"otherwise\" on n ≥ 256; \
-         NMSE claims on the sphere and teapot rows; the speed claims on the host (the MCU has not been measured).\n"
+         NMSE claims on the sphere and teapot rows; the per-evaluation speed claim on the host and in instructions, the frame claim on the host (docs/accuracy-vs-time.md prices the frames in instructions).\n"
     );
     for c in claims(t) {
         let verdict = match c.holds {
