@@ -771,8 +771,8 @@ pub fn qemu() -> Result<(), String> {
     let compiler = rustc_version();
     let _ = write!(
         md,
-        "\nMade from commit {}. Compiler: `{compiler}`.\n",
-        commit()
+        "\n{} Compiler: `{compiler}`.\n",
+        fixshade_sim::tables::provenance::made_line("cargo xtask qemu")
     );
     if ci {
         stale_counts(
@@ -798,28 +798,6 @@ pub fn qemu() -> Result<(), String> {
     }
     println!("qemu: {checked} frames bit-identical to the host render of the same scene, method and strip/chunk layout");
     Ok(())
-}
-
-/// The commit the tree is at (`git rev-parse --short HEAD`), "with uncommitted
-/// changes" when the tree differs from it.
-fn commit() -> String {
-    let git = |args: &[&str]| {
-        Command::new("git")
-            .args(args)
-            .current_dir(root())
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    match (
-        git(&["rev-parse", "--short", "HEAD"]),
-        git(&["status", "--porcelain"]),
-    ) {
-        (Some(c), Some(s)) if s.is_empty() => format!("`{c}`"),
-        (Some(c), _) => format!("`{c}` with uncommitted changes"),
-        _ => "unknown (no git)".into(),
-    }
 }
 
 /// `rustc --version` (the counts hold for the compiler that built the images).
