@@ -12,8 +12,8 @@ use std::path::Path;
 use crate::image::compare::Verdict as Nmse;
 use crate::scene::desc::{Named, ShadingName, SpanName};
 use crate::tables::report::mcu::BOARDS;
-use crate::tables::report::text::{instr, med_instr, median_f, of};
-use crate::tables::report::{Config, Kind, ReportOptions, Row};
+use crate::tables::report::model::{instr, med_instr, median_f, of};
+use crate::tables::report::model::{Config, Kind, ReportOptions, Row};
 
 /// The verdict of a claim.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -230,7 +230,7 @@ fn pct(x: f64) -> String {
 }
 
 fn sci(x: f64) -> String {
-    crate::tables::report::text::sci(x)
+    crate::tables::report::model::sci(x)
 }
 
 /// Verdict of a claimed speed-up `claimed` (×) against our speed-ups on the two

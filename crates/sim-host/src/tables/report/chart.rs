@@ -8,7 +8,7 @@
 use plotters::prelude::*;
 
 use super::mcu::BOARDS;
-use super::{pareto_front, Kind, Row, STEM};
+use super::model::{pareto_front, Kind, Row, STEM};
 use crate::chart::labels::{self, Rect};
 use crate::chart::plot::{Canvas, Label};
 

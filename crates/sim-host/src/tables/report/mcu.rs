@@ -11,25 +11,12 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::{Config, Kind};
+use super::model::{Config, Kind};
+pub use super::model::{McuCount, BOARDS};
 use crate::scene::desc::{Named, ShadingName};
-
-/// The cores of the MCU columns: (board of `docs/mcu-instructions.csv`, column
-/// name). ARMv6-M (Cortex-M0/M0+ class: no divide instruction, no 32×32→64
-/// multiply) first, then Cortex-M4.
-pub const BOARDS: [(&str, &str); 2] = [("mps2-an385-v6m", "ARMv6-M"), ("mps2-an386", "M4")];
 
 /// The only layout the report reads.
 pub const LAYOUT: &str = "full";
-
-/// Instructions of one frame, per covered pixel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct McuCount {
-    /// The whole frame (vertex stage and draw).
-    pub per_pixel: f64,
-    /// The draw alone.
-    pub draw_per_pixel: f64,
-}
 
 /// What identifies a row of the CSV: board, figure, method, divide, sweep,
 /// shading, specular, shininess.

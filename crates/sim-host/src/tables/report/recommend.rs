@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 
 use super::mcu::BOARDS;
-use super::text::{instr, med_instr, sci};
-use super::{Config, Kind, Row, SHININESS};
+use super::model::{instr, med_instr, sci};
+use super::model::{Config, Kind, Row, SHININESS};
 use crate::image::compare::Verdict;
 use crate::scene::desc::{DivideName, ShadingName};
 

@@ -3,23 +3,11 @@
 use std::fmt::Write as _;
 
 use super::mcu::BOARDS;
-use super::{chart, recommend, Config, Kind, ReportOptions, Row, MACHINE_NOTE, STEM};
+pub use super::model::{instr, med_instr, median_f, of, sci};
+use super::model::{Kind, ReportOptions, Row, MACHINE_NOTE, STEM};
+use super::{chart, recommend};
 use crate::scene::desc::{DivideName, Named, ShadingName, SpanName};
 use crate::tables::{claims, provenance};
-
-/// An NMSE (or other small number) in three significant digits; `0` for zero.
-pub fn sci(x: f64) -> String {
-    if x == 0.0 {
-        "0".to_string()
-    } else {
-        format!("{x:.3e}")
-    }
-}
-
-/// Instructions per pixel as the tables print them.
-pub fn instr(x: f64) -> String {
-    format!("{x:.1}")
-}
 
 /// The full table's header, shared by the text and markdown tables.
 pub const HEADER: [&str; 14] = [
@@ -150,26 +138,6 @@ pub fn to_csv(rows: &[Row]) -> String {
         );
     }
     s
-}
-
-/// Median of `v` (the upper one of an even count); NaN when empty.
-pub fn median_f(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        f64::NAN
-    } else {
-        v[v.len() / 2]
-    }
-}
-
-/// Rows whose configuration satisfies `pred`.
-pub fn of<'a>(rows: &'a [Row], pred: &dyn Fn(&Config) -> bool) -> Vec<&'a Row> {
-    rows.iter().filter(|r| pred(&r.config)).collect()
-}
-
-/// Median over figures of instructions per pixel on `core`.
-pub fn med_instr(rs: &[&Row], core: usize) -> f64 {
-    median_f(rs.iter().map(|r| r.mcu[core].per_pixel).collect())
 }
 
 /// `a / b` of the medians on both cores, as `1.23× / 4.56×`.
@@ -344,6 +312,7 @@ pub fn markdown(opts: &ReportOptions, rows: &[Row], inputs: &claims::Inputs) -> 
 
 #[cfg(test)]
 mod tests {
+    use super::super::model::Config;
     use super::*;
     use crate::tables::report::is_baseline;
 
