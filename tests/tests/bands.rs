@@ -5,7 +5,9 @@
 //!   band by band in bands of 1, 2, 16 and 240 rows: colour and depth byte for byte
 //!   equal to one whole-frame draw, every triangle set up once (the binning counts
 //!   the triangles once; no band re-walks). The same with no band memory (every band
-//!   re-walks) and with too little (it falls back, reported).
+//!   re-walks) and with too little (it falls back, reported); and with the edge
+//!   walks carried from band to band ([`Binned::draw_band_resuming`]), the bands
+//!   drawn top to bottom, even then odd, and bottom to top.
 //! * Two threads drawing alternate bands of one binned frame give the bytes one
 //!   thread gives.
 //! * Every triangle of the triangle catalogue, set up once into a record and drawn
@@ -13,8 +15,8 @@
 
 use fixshade::raster::setup::{setup, Record};
 use fixshade::raster::span::{DepthTest, Gradient, NoDepth};
-use fixshade::raster::{draw_record, ScreenVertex, GUARD};
-use fixshade::render::{BandMemory, Frame, Stats, XfVertex};
+use fixshade::raster::{draw_record, ScreenVertex, Walk, GUARD};
+use fixshade::render::{BandMemory, Binned, Frame, Stats, XfVertex};
 use fixshade::scene::{Scene, ShadingMode};
 use fixshade::shade::Gouraud;
 use fixshade::target::{Framebuffer, PixelFormat, Rgb565Le, Rgb888, Strip};
@@ -39,6 +41,27 @@ fn whole<P: PixelFormat>(scene: &Scene<'_>, w: u32, h: u32) -> (Vec<P::Raw>, Vec
     (c, d, st)
 }
 
+/// How the bands are drawn: each on its own ([`Binned::draw_band`], top to
+/// bottom), or resuming the edge walks ([`Binned::draw_band_resuming`], with a walk
+/// per record) in an order.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Walks {
+    None,
+    TopToBottom,
+    EvenThenOdd,
+    BottomToTop,
+}
+
+impl Walks {
+    fn order(self, bands: u32) -> Vec<u32> {
+        match self {
+            Walks::None | Walks::TopToBottom => (0..bands).collect(),
+            Walks::EvenThenOdd => (0..bands).step_by(2).chain((1..bands).step_by(2)).collect(),
+            Walks::BottomToTop => (0..bands).rev().collect(),
+        }
+    }
+}
+
 /// Colour and depth drawn band by band from one binning into `records` records
 /// (and an index as large as it needs), with the statistics summed.
 fn banded<P: PixelFormat>(
@@ -46,21 +69,40 @@ fn banded<P: PixelFormat>(
     (w, h): (u32, u32),
     rows: u32,
     records: usize,
+    walks: Walks,
+) -> (Vec<P::Raw>, Vec<u16>, Stats, bool) {
+    let mut rec = vec![Record::EMPTY; records];
+    let mut index = vec![0u16; BandMemory::index_len(records, h + 32, rows, h + 32)];
+    let mut starts = vec![0u32; BandMemory::starts_len(h + 32, rows)];
+    let mut walk = vec![Walk::EMPTY; if walks == Walks::None { 0 } else { records }];
+    // With walks, the same memory first draws the frame 32 rows taller (other
+    // triangles, other edges): binning the frame asked for must forget the walks
+    // that drawing left there.
+    if walks != Walks::None {
+        let mem = BandMemory::new(&mut rec, &mut index, &mut starts).with_walks(&mut walk);
+        draw_bands::<P>(scene, (w, h + 32), rows, mem, walks);
+    }
+    let mem = BandMemory::new(&mut rec, &mut index, &mut starts).with_walks(&mut walk);
+    draw_bands::<P>(scene, (w, h), rows, mem, walks)
+}
+
+/// [`banded`] into `mem`.
+fn draw_bands<P: PixelFormat>(
+    scene: &Scene<'_>,
+    (w, h): (u32, u32),
+    rows: u32,
+    mem: BandMemory<'_>,
+    walks: Walks,
 ) -> (Vec<P::Raw>, Vec<u16>, Stats, bool) {
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
     let frame = Frame::<P>::prepare(scene, w, h, &mut cache).unwrap();
-    let mut rec = vec![Record::EMPTY; records];
-    let mut index = vec![0u16; BandMemory::index_len(records, h, rows, h)];
-    let mut starts = vec![0u32; BandMemory::starts_len(h, rows)];
-    let binned = frame
-        .bin(rows, BandMemory::new(&mut rec, &mut index, &mut starts))
-        .unwrap();
+    let mut binned: Binned<'_, '_, '_, '_, '_, P, _> = frame.bin(rows, mem).unwrap();
     let (mut c, mut d) = (
         vec![P::Raw::default(); (w * h) as usize],
         vec![0u16; (w * h) as usize],
     );
     let mut st = binned.stats();
-    for band in 0..binned.bands() {
+    for band in walks.order(binned.bands()) {
         let r = binned.rows(band);
         let span = (r.start * w) as usize..(r.end * w) as usize;
         let mut strip = Strip::<P>::new(
@@ -73,9 +115,16 @@ fn banded<P: PixelFormat>(
         )
         .unwrap();
         strip.clear(P::pack(1, 2, 3));
-        st += binned.draw_band::<Gradient, _>(band, &mut strip).unwrap();
+        st += if walks == Walks::None {
+            binned.draw_band::<Gradient, _>(band, &mut strip).unwrap()
+        } else {
+            binned
+                .draw_band_resuming::<Gradient, _>(band, &mut strip)
+                .unwrap()
+        };
     }
-    (c, d, st, binned.complete())
+    let complete = binned.complete();
+    (c, d, st, complete)
 }
 
 /// The whole frame against bands of every height, with enough, no and too little
@@ -89,12 +138,16 @@ fn check_scene<P: PixelFormat>(name: &str, ls: &LoadedScene) {
     // Drawn triangles after clipping: at most seven pieces each.
     let enough = ws.triangles as usize * 7 + 1;
     for rows in BANDS {
-        for (records, what) in [
-            (enough, "records"),
-            (0, "no memory"),
-            (ws.drawn as usize / 2, "too few"),
+        for (records, what, walks) in [
+            (enough, "records", Walks::None),
+            (enough, "walks", Walks::TopToBottom),
+            (enough, "walks, even then odd", Walks::EvenThenOdd),
+            (enough, "walks, bottom to top", Walks::BottomToTop),
+            (0, "no memory", Walks::None),
+            (ws.drawn as usize / 2, "too few", Walks::None),
+            (ws.drawn as usize / 2, "too few, walks", Walks::TopToBottom),
         ] {
-            let (bc, bd, bs, complete) = banded::<P>(&scene, (w, h), rows, records);
+            let (bc, bd, bs, complete) = banded::<P>(&scene, (w, h), rows, records, walks);
             assert!(
                 bc == wc,
                 "{name}: {rows}-row bands ({what}): colour differs"
@@ -148,7 +201,7 @@ fn two_threads_draw_alternate_bands() {
     ls.desc.height = 240;
     let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
     let (w, h, rows) = (320u32, 240u32, 16u32);
-    let (one, _, _, _) = banded::<Rgb565Le>(&scene, (w, h), rows, 20_000);
+    let (one, _, _, _) = banded::<Rgb565Le>(&scene, (w, h), rows, 20_000, Walks::None);
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
     let frame = Frame::<Rgb565Le>::prepare(&scene, w, h, &mut cache).unwrap();
     let mut rec = vec![Record::EMPTY; 20_000];

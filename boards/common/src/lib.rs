@@ -9,7 +9,7 @@
 //! in its exception handler and converts ticks to instructions. The handler's own
 //! few instructions per wrap (one wrap per 2²⁴ ticks: ≥ 600 000 instructions) are
 //! counted too, a bias below 0.01 %. Under `-icount` the counts do not depend on the
-//! host: the same image gives the same numbers on every run.
+//! host or the run (see [`Counter`]).
 #![no_std]
 #![deny(missing_docs, unsafe_code)]
 
@@ -50,14 +50,38 @@ pub fn on_systick() {
     WRAPS.store(WRAPS.load(Ordering::Relaxed) + 1, Ordering::Relaxed);
 }
 
+/// A moment of a [`Counter`]: SysTick ticks since the start.
+#[derive(Copy, Clone, Debug)]
+pub struct Mark(u64);
+
 /// An instruction counter on SysTick, valid under QEMU's `-icount shift=SHIFT`.
+///
+/// The same image gives the same counts in every run. What runs before a span
+/// (code placed elsewhere, say, by a build from another directory) moves where
+/// it starts against the ticks and the wraps, and the counter is built so that
+/// this changes the span's count as little as it can:
+/// - Each instruction advances the virtual clock by 2^shift ns, which is not a
+///   whole number of ticks (25.6 at 25 MHz): a span of `n` instructions reads
+///   `25.6·n` ticks give or take one, depending on where the clock stood when it
+///   began. Rounding to the nearest instruction gives `n` (a tick is far shorter
+///   than half an instruction on every board here).
+/// - A read in the `GUARD` window after a reload waits there; the wait is left
+///   outside the span (before its start, after its end).
+///
+/// What remains: a span holds as many wrap exceptions as wraps fall in it, which
+/// depends on where it began, and each costs it the handler's instructions (and
+/// QEMU reloads SysTick when it next checks its timers, a few instructions after
+/// the wrap): on mps2 a loop of 6 000 001 instructions holding nine wraps measures
+/// 6 000 136 on the M4 and 6 000 128 on ARMv6-M where an empty span measures 57
+/// and 63, under 9 instructions a wrap. A span's count may move by about that much
+/// per wrap when what ran before it changes; `cargo xtask qemu` compares committed
+/// counts within that spread.
 pub struct Counter {
     syst: SYST,
-    /// Core clock in Hz (SysTick's clock source).
-    hz: u64,
-    /// QEMU's icount shift: one instruction = 2^shift ns.
-    shift: u32,
-    /// The last value [`Counter::ticks`] returned.
+    /// Core clock in Hz (SysTick's clock source) times 2^shift, QEMU's icount
+    /// shift (one instruction = 2^shift ns).
+    per: u64,
+    /// The ticks of the last read.
     last: u64,
 }
 
@@ -73,32 +97,43 @@ impl Counter {
         syst.enable_counter();
         Counter {
             syst,
-            hz: hz as u64,
-            shift,
+            per: (hz as u64) << shift,
             last: 0,
         }
     }
 
-    /// SysTick ticks since `start`, never decreasing.
+    /// The start of a span, for [`Counter::since`].
+    pub fn begin(&mut self) -> Mark {
+        self.read(false)
+    }
+
+    /// Instructions from `start` to now: ticks · 10⁹ / (hz · 2^shift), rounded to
+    /// the nearest. Differences (spans), not totals: the product stays in u64.
+    pub fn since(&mut self, start: Mark) -> u64 {
+        let end = self.read(true);
+        let per = self.per;
+        // ticks < 2^34 (an hour of virtual time), 10^9 < 2^30, per / 2 < 2^45: the
+        // sum < 2^64.
+        ((end.0 - start.0) * 1_000_000_000 + per / 2) / per
+    }
+
+    /// The moment now. A read within `GUARD` ticks after a reload may precede the
+    /// wrap's exception (QEMU raises it at the next instruction boundary it
+    /// checks): it waits with interrupts enabled until the reading leaves the
+    /// window, and the moment is the first read when `at_first` (the end of a span,
+    /// the wait after it), else the last (the start of a span, the wait before it).
     ///
-    /// QEMU may show the reloaded value for a whole translation block before it
-    /// raises the wrap's exception, longer than `GUARD` on the Cortex-M0 (whose
+    /// QEMU may also show the reloaded value for a whole translation block before
+    /// it raises the exception, longer than `GUARD` on the Cortex-M0 (whose
     /// straight-line blocks are long). Such a read lacks one wrap and falls below
     /// the previous one: a decrease can only mean a missed wrap, and it gets the
     /// wrap back. (A read that misses a wrap more than a wrap after the previous
     /// read would not be caught; with `GUARD` covering blocks of 256 instructions
     /// that needs a longer block there.)
-    pub fn ticks(&mut self) -> u64 {
-        let mut t = self.read();
-        if t < self.last {
-            t += RELOAD as u64 + 1;
-        }
-        self.last = t;
-        t
-    }
-
-    fn read(&mut self) -> u64 {
-        loop {
+    fn read(&mut self, at_first: bool) -> Mark {
+        // The first read, if it fell in the window (u32::MAX: none).
+        let mut v0 = u32::MAX;
+        let (v, w) = loop {
             let (v, w) = cortex_m::interrupt::free(|_| {
                 let mut v = SYST::get_current();
                 let mut w = WRAPS.load(Ordering::Relaxed);
@@ -110,32 +145,31 @@ impl Counter {
                 }
                 (v, w)
             });
-            // Right after a wrap QEMU may show the reloaded value a moment before it
-            // raises the exception (the timer callback runs at the next instruction
-            // boundary it checks). Within `GUARD` ticks of the reload value, wait with
-            // interrupts enabled until the wrap has surely been counted.
             if v < RELOAD - GUARD {
-                return w as u64 * (RELOAD as u64 + 1) + (RELOAD - v) as u64;
+                // The first read lies in the same wrap as this one: the window is
+                // far shorter than a wrap.
+                break (if at_first && v0 != u32::MAX { v0 } else { v }, w);
             }
+            if v0 == u32::MAX {
+                v0 = v;
+            }
+        };
+        let mut ticks = w as u64 * (RELOAD as u64 + 1) + (RELOAD - v) as u64;
+        if ticks < self.last {
+            ticks += RELOAD as u64 + 1;
         }
-    }
-
-    /// Instructions in `ticks` SysTick ticks: ticks · 10⁹ / (hz · 2^shift). Convert
-    /// differences (short spans), not totals, so the product stays in u64.
-    pub fn instructions(&self, ticks: u64) -> u64 {
-        // ticks < 2^34 (an hour of virtual time), 10^9 < 2^30: product < 2^64.
-        ticks * 1_000_000_000 / (self.hz << self.shift)
+        self.last = ticks;
+        Mark(ticks)
     }
 
     /// Runs `f` and returns its result with the instructions it took (marked for
     /// the helper count, see [`mark_on`]).
     pub fn measure<R>(&mut self, f: impl FnOnce() -> R) -> (R, u64) {
-        let a = self.ticks();
+        let a = self.begin();
         mark_on();
         let r = f();
         mark_off();
-        let b = self.ticks();
-        (r, self.instructions(b - a))
+        (r, self.since(a))
     }
 
     /// Gives SysTick back.
@@ -167,10 +201,12 @@ pub fn known_loop(n: u32) {
 }
 
 /// Calibrates [`Counter`]: instructions it measures for an empty span and for
-/// [`known_loop`] of `n` turns, logged as `CALIBRATE board empty loop expected`.
+/// [`known_loop`] of `n` turns (long enough to hold wraps), logged as
+/// `CALIBRATE board empty loop expected`.
 pub fn calibrate(counter: &mut Counter, out: &mut impl core::fmt::Write, board: &str) {
     let ((), empty) = counter.measure(|| ());
-    let n = 100_000;
+    // Ten or more wraps (a wrap per 655 360 instructions at 25 MHz).
+    let n = 3_000_000;
     let ((), looped) = counter.measure(|| known_loop(n));
     let _ = writeln!(
         out,

@@ -430,15 +430,14 @@ fn prepare_and_draw<'s>(
 ) -> Result<(u64, u64, Stats), &'static str> {
     let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
-    // Ticks read around the call rather than through `Counter::measure`, whose
+    // The counter read around the call rather than through `Counter::measure`, whose
     // `(Result<Frame>, u64)` cost this function 32 more bytes of a stack that is
     // short of room (measured with `-Z emit-stack-sizes`).
-    let t0 = counter.ticks();
+    let t0 = counter.begin();
     mark_on();
     let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);
     mark_off();
-    let t1 = counter.ticks();
-    let prepare = counter.instructions(t1 - t0);
+    let prepare = counter.since(t0);
     let frame = frame.map_err(|_| "prepare failed")?;
     let (stats, draw) = counter.measure(|| draw(&frame, strip));
     Ok((prepare, draw, stats.map_err(|_| "draw failed")?))

@@ -42,7 +42,7 @@ use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 // The banded frames (`banded`), drawn by the figure image only.
 #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 use fixshade::{
-    raster::{setup::Record, span::Gradient},
+    raster::{setup::Record, span::Gradient, Walk},
     render::{BandMemory, RenderError},
     target::Strip,
 };
@@ -537,6 +537,9 @@ static mut BAND_RECORDS: [Record; RECORDS] = [Record::EMPTY; RECORDS];
 static mut BAND_INDEX: [u16; 1 << 16] = [0; 1 << 16];
 #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 static mut BAND_STARTS: [u32; 481] = [0; 481];
+/// Where each record's edge walk stopped, carried from band to band.
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
+static mut BAND_WALKS: [Walk; RECORDS] = [Walk::EMPTY; RECORDS];
 
 /// Draws `fig` with `gradient` in bands of `rows` rows from one binning: the
 /// vertex stage, then the binning and every band, each band into the rows of `fb`
@@ -554,19 +557,20 @@ fn banded(
     let (w, h) = (fig.width, fig.height);
     // SAFETY: the only references to these buffers, taken here, one call at a time.
     #[allow(unsafe_code)]
-    let (records, index, starts) = unsafe {
+    let (records, index, starts, walks) = unsafe {
         (
             &mut *core::ptr::addr_of_mut!(BAND_RECORDS),
             &mut *core::ptr::addr_of_mut!(BAND_INDEX),
             &mut *core::ptr::addr_of_mut!(BAND_STARTS),
+            &mut *core::ptr::addr_of_mut!(BAND_WALKS),
         )
     };
     let (frame, prepare) = counter.measure(|| Frame::<Rgb565Le>::prepare(scene, w, h, cache));
     let frame = frame.map_err(|_| "prepare failed")?;
     let (color, mut depth) = fb.buffers();
     let (stats, draw) = counter.measure(|| -> Result<Stats, RenderError> {
-        let mem = BandMemory::new(records, index, starts);
-        let binned = frame.bin(rows, mem)?;
+        let mem = BandMemory::new(records, index, starts).with_walks(walks);
+        let mut binned = frame.bin(rows, mem)?;
         let mut st = binned.stats();
         for band in 0..binned.bands() {
             let r = binned.rows(band);
@@ -574,7 +578,7 @@ fn banded(
             let d = depth.as_deref_mut().map(|d| &mut d[span.clone()]);
             let mut strip = Strip::new(&mut color[span], d, w, h, r.start, r.len() as u32)
                 .map_err(|_| RenderError::BadSize)?;
-            st += binned.draw_band::<Gradient, _>(band, &mut strip)?;
+            st += binned.draw_band_resuming::<Gradient, _>(band, &mut strip)?;
         }
         Ok(st)
     });

@@ -290,7 +290,7 @@ impl<'a, P: EgFormat, S: SpanMethod, Sp: Specular> Model<'a, P, S, Sp> {
         }
         // At least one row (checked in `prepare`), at most the frame.
         let band = (band as u32).clamp(1, h);
-        let binned = match self
+        let mut binned = match self
             .frame
             .bin(band, BandMemory::new(&mut [], &mut [], &mut []))
         {
@@ -305,7 +305,7 @@ impl<'a, P: EgFormat, S: SpanMethod, Sp: Specular> Model<'a, P, S, Sp> {
             error: None,
         };
         let r = render_binned::<S, Covered<P>, _, Sp>(
-            &binned,
+            &mut binned,
             s.depth.as_deref_mut(),
             CoveredPixel::default(),
             &mut flush,

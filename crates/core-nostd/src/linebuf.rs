@@ -161,12 +161,13 @@ where
     L: LineBufferProvider<Format = P>,
     Sp: Specular,
 {
-    let binned = frame.bin(band_rows, mem)?;
-    render_binned::<S, P, L, Sp>(&binned, depth, background, provider)
+    let mut binned = frame.bin(band_rows, mem)?;
+    render_binned::<S, P, L, Sp>(&mut binned, depth, background, provider)
 }
 
 /// The band loop: renders every band of `binned` into `provider`'s buffers, top to
-/// bottom, with the span method `S` ([`Binned::draw_band`]). The statistics count
+/// bottom, with the span method `S` ([`Binned::draw_band_resuming`]: the edge walks
+/// go on from band to band when the memory lent walks). The statistics count
 /// each triangle once when the frame was binned, and once per band when the bands
 /// re-walk (then [`Stats::rewalked`] counts the bands). See [`render_lines`].
 ///
@@ -194,15 +195,15 @@ where
 /// let mut cache = [XfVertex::default(); 3];
 /// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
 /// let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 12], [0u32; 7]);
-/// let binned = frame.bin(8, BandMemory::new(&mut records, &mut index, &mut starts)).unwrap();
+/// let mut binned = frame.bin(8, BandMemory::new(&mut records, &mut index, &mut starts)).unwrap();
 /// let mut depth = [0u16; 64 * 8];
 /// let (mut a, mut b) = (Lines(0), Lines(0));
-/// render_binned::<Gradient, _, _, _>(&binned, Some(&mut depth), 0, &mut a).unwrap();
-/// render_binned::<Gradient, _, _, _>(&binned, Some(&mut depth), 0, &mut b).unwrap();
+/// render_binned::<Gradient, _, _, _>(&mut binned, Some(&mut depth), 0, &mut a).unwrap();
+/// render_binned::<Gradient, _, _, _>(&mut binned, Some(&mut depth), 0, &mut b).unwrap();
 /// assert_eq!((a.0, b.0), (6, 6)); // six bands of 8 rows each
 /// ```
 pub fn render_binned<S, P, L, Sp>(
-    binned: &Binned<'_, '_, '_, '_, '_, P, Sp>,
+    binned: &mut Binned<'_, '_, '_, '_, '_, P, Sp>,
     mut depth: Option<&mut [impl DepthFormat]>,
     background: P::Raw,
     provider: &mut L,
@@ -227,7 +228,7 @@ where
                 .map_err(DrawError::from)
                 .and_then(|mut strip| {
                     strip.clear(background);
-                    Ok(binned.draw_band::<S, _>(band, &mut strip)?)
+                    Ok(binned.draw_band_resuming::<S, _>(band, &mut strip)?)
                 });
         });
         total += result?;

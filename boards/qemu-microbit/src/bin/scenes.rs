@@ -303,10 +303,9 @@ fn prepare_and_draw<'s>(
     cache: &mut [XfVertex],
     counter: &mut Counter,
 ) -> Result<(u64, u64, Stats), &'static str> {
-    let t0 = counter.ticks();
+    let t0 = counter.begin();
     let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);
-    let t1 = counter.ticks();
-    let prepare = counter.instructions(t1 - t0);
+    let prepare = counter.since(t0);
     let frame = frame.map_err(|_| "prepare failed")?;
     let (stats, draw) = counter.measure(|| draw(&frame, strip));
     Ok((prepare, draw, stats.map_err(|_| "draw failed")?))

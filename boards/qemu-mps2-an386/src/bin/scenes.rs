@@ -27,6 +27,7 @@ use fixshade::linebuf::{render_lines, LineBufferProvider};
 use fixshade::raster::perspective::Perspective;
 use fixshade::raster::setup::Record;
 use fixshade::raster::span::Gradient;
+use fixshade::raster::Walk;
 use fixshade::render::{BandMemory, Frame, XfVertex};
 use fixshade::scene::{Projection, Scene, ShadingMode};
 use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
@@ -78,6 +79,7 @@ const STARTS: usize = 4097;
 static mut BAND_RECORDS: [Record; RECORDS] = [Record::EMPTY; RECORDS];
 static mut BAND_INDEX: [u16; INDEX] = [0; INDEX];
 static mut BAND_STARTS: [u32; STARTS] = [0; STARTS];
+static mut BAND_WALKS: [Walk; RECORDS] = [Walk::EMPTY; RECORDS];
 static mut CACHE: [XfVertex; VERTICES] = [XfVertex {
     s: fixshade::raster::ScreenVertex {
         x: 0,
@@ -264,11 +266,12 @@ fn draw_bands<Sp: Specular, D: DepthFormat>(
     use core::fmt::Write as _;
     // SAFETY: the only references to these buffers, taken here, one call at a time.
     #[allow(unsafe_code)]
-    let (records, index, starts) = unsafe {
+    let (records, index, starts, walks) = unsafe {
         (
             &mut *core::ptr::addr_of_mut!(BAND_RECORDS),
             &mut *core::ptr::addr_of_mut!(BAND_INDEX),
             &mut *core::ptr::addr_of_mut!(BAND_STARTS),
+            &mut *core::ptr::addr_of_mut!(BAND_WALKS),
         )
     };
     let (w, h) = (case.width, case.height);
@@ -290,7 +293,8 @@ fn draw_bands<Sp: Specular, D: DepthFormat>(
                 render_lines::<Gradient, _, _, _>(
                     &frame,
                     rows,
-                    BandMemory::new(records, index, starts),
+                    BandMemory::new(&mut *records, &mut *index, &mut *starts)
+                        .with_walks(&mut *walks),
                     d,
                     bg,
                     &mut lines,

@@ -409,7 +409,7 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    fill_gradient::<P, T, Z, Sh>(target, r)
+    fill_gradient::<P, T, Z, Sh, ()>(target, r, ())
 }
 
 /// The constant-gradient fill of a set-up triangle ([`span::Gradient`]'s draw): the
@@ -423,15 +423,16 @@ where
 /// and at covered pixels the lanes hold the channels); otherwise the spans go to
 /// [`span::write_run`].
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn fill_gradient<P, T, Z, Sh>(target: &mut T, s: &setup::Record) -> u32
+pub(crate) fn fill_gradient<P, T, Z, Sh, W>(target: &mut T, s: &setup::Record, walk: W) -> u32
 where
     P: PixelFormat,
     T: Target<P>,
     Z: DepthMode,
     Sh: Shading,
+    W: WalkSlot,
 {
     if Z::TEST && !target.has_depth() {
-        return fill_gradient::<P, T, NoDepth, Sh>(target, s);
+        return fill_gradient::<P, T, NoDepth, Sh, W>(target, s, walk);
     }
     let [t, m, b] = s.xy;
     let rows = target.rows();
@@ -459,7 +460,7 @@ where
         (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
     {
         let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
-        return walk_rows::<P, T, Z>(target, s.xy, s.mid_left, rows, |span| {
+        return walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, |span| {
             if let Some((color, depth, x0)) = span {
                 // x0 ≥ 0: x0·pgx modulo 2^64 from 32-bit products (no 64×64 multiply).
                 let x = x0 as u32;
@@ -474,7 +475,7 @@ where
         });
     }
     let mut row = base;
-    walk_rows::<P, T, Z>(target, s.xy, s.mid_left, rows, |span| {
+    walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, |span| {
         if let Some((color, depth, x0)) = span {
             let v = core::array::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
             pixel::write_run::<P, Z, Sh>(color, depth, v, gx);
@@ -489,13 +490,15 @@ where
 /// `row(Some((colour, depth, x0)))` with the row's covered pixels `[x0, x1)` clipped
 /// to the target (depth empty unless `Z::TEST`), or `row(None)` for a row with none:
 /// `row` draws the span and moves its values on to the next row. Returns the pixels
-/// covered.
+/// covered. With `walk`, the walk resumes where it stopped if that was at most
+/// `RESUME_ROWS` rows above `y_top`, and stores where it stops.
 #[inline(always)]
-fn walk_rows<P, T, Z>(
+fn walk_rows<P, T, Z, W: WalkSlot>(
     target: &mut T,
     [t, m, b]: [(i32, i32); 3],
     mid_left: bool,
     (y_top, y_mid, y_bot): (i32, i32, i32),
+    mut walk: W,
     mut row: impl FnMut(Option<(&mut [P::Raw], &mut [T::Depth], i32)>),
 ) -> u32
 where
@@ -504,17 +507,40 @@ where
     Z: DepthMode,
 {
     let width = target.width() as i32;
-    let mut long = EdgeStepper::new(t, b, y_top);
+    // A walk that stopped at most `RESUME_ROWS` rows above: its steppers stepped on
+    // to `y_top` (each step exact, so they equal steppers placed there directly).
+    let mut resumed = None;
+    if let Some(w) = walk.get() {
+        let gap = y_top.wrapping_sub(w.row);
+        if w.row != Walk::EMPTY.row && (0..=RESUME_ROWS).contains(&gap) {
+            let (mut long, mut short) = (w.long, w.short);
+            for _ in 0..gap {
+                long.step();
+                short.step();
+            }
+            resumed = Some((long, w.lower, short));
+        }
+    }
+    let mut long = match resumed {
+        Some((l, _, _)) => l,
+        None => EdgeStepper::new(t, b, y_top),
+    };
     let mut covered = 0u32;
     let halves = [
-        ((t, m), y_top, y_mid.min(y_bot)),
-        ((m, b), y_mid.max(y_top), y_bot),
+        ((t, m), y_top, y_mid.min(y_bot), false),
+        ((m, b), y_mid.max(y_top), y_bot, true),
     ];
-    for ((top, bottom), ys, ye) in halves {
+    let mut last = None;
+    for ((top, bottom), ys, ye, lower) in halves {
         if ys >= ye {
             continue;
         }
-        let mut short = EdgeStepper::new(top, bottom, ys);
+        // The resumed short edge serves if it is this half's (the first half
+        // walked here starts at `y_top`, where it was stepped to).
+        let mut short = match resumed {
+            Some((_, l, sh)) if l == lower && ys == y_top => sh,
+            _ => EdgeStepper::new(top, bottom, ys),
+        };
         let (left, right) = if mid_left {
             (&mut short, &mut long)
         } else {
@@ -539,8 +565,95 @@ where
             left.step();
             right.step();
         }
+        if W::ACTIVE {
+            last = Some((short, lower));
+        }
+    }
+    if let Some((short, lower)) = last {
+        walk.put(Walk {
+            row: y_bot,
+            lower,
+            long,
+            short,
+        });
     }
     covered
+}
+
+/// Where [`walk_rows`] keeps a [`Walk`]: nowhere (`()`, the whole-frame draws:
+/// the code compiles as without walks), or a band's slot, if the memory lent one.
+pub(crate) trait WalkSlot {
+    /// False for `()`: nothing to keep.
+    const ACTIVE: bool;
+    /// The walk to resume, if any.
+    fn get(&self) -> Option<&Walk>;
+    /// Keeps where the walk stopped.
+    fn put(&mut self, w: Walk);
+}
+
+impl WalkSlot for () {
+    const ACTIVE: bool = false;
+    #[inline(always)]
+    fn get(&self) -> Option<&Walk> {
+        None
+    }
+    #[inline(always)]
+    fn put(&mut self, _: Walk) {}
+}
+
+impl WalkSlot for Option<&mut Walk> {
+    const ACTIVE: bool = true;
+    #[inline(always)]
+    fn get(&self) -> Option<&Walk> {
+        self.as_deref()
+    }
+    #[inline(always)]
+    fn put(&mut self, w: Walk) {
+        if let Some(slot) = self {
+            **slot = w;
+        }
+    }
+}
+
+/// The most rows a [`Walk`] is stepped on to resume (a band drawn by another
+/// thread in between); further, the steppers are placed afresh.
+const RESUME_ROWS: i32 = 64;
+
+/// Where the edge walk of a set-up triangle stopped: the row it reached and its two
+/// edge steppers there, so that drawing the next band resumes the walk instead of
+/// placing the steppers afresh (a division each; see
+/// [`crate::render::Binned::draw_band_resuming`]). The steppers at a row are a
+/// function of the triangle and the row, so a resumed walk draws the same pixels.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Walk {
+    /// The row the steppers stand on; `i32::MIN`: none.
+    row: i32,
+    /// The short edge is the lower half's (middle to bottom vertex).
+    lower: bool,
+    long: EdgeStepper,
+    short: EdgeStepper,
+}
+
+// The RAM figure of `BandMemory::with_walks` and the README.
+const _: () = assert!(core::mem::size_of::<Walk>() == 48);
+
+impl Walk {
+    /// No walk: the steppers are placed afresh.
+    pub const EMPTY: Walk = {
+        let e = EdgeStepper {
+            q: 0,
+            r: 0,
+            d: 0,
+            a: 0,
+            b: 0,
+        };
+        Walk {
+            row: i32::MIN,
+            lower: false,
+            long: e,
+            short: e,
+        }
+    };
 }
 
 /// The rows a set-up triangle covers inside `rows`: `(top, middle, bottom)`, where

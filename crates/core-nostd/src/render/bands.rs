@@ -7,8 +7,12 @@
 //! attributes), and the records are sorted into bins, one list per band. Drawing a
 //! band ([`Binned::draw_band`]) then walks only the records of that band, starting
 //! each edge walk at the band's first row: the edge steppers are placed there
-//! directly (one division at most), the lattice is not recomputed. A band of 16 rows
-//! costs about what the same rows of a whole-frame draw cost.
+//! directly (one division at most), the lattice is not recomputed. With a
+//! [`Walk`] per record ([`BandMemory::with_walks`]) and the bands drawn in order
+//! ([`Binned::draw_band_resuming`], what [`crate::linebuf::render_binned`] does),
+//! the steppers are not placed again either: each walk goes on from the row where
+//! the band above left it. A band of 16 rows then costs about what the same rows of
+//! a whole-frame draw cost.
 //!
 //! Memory is the caller's ([`BandMemory`]): records, the bins' index and the bins'
 //! starts, all sized by `const fn`s so a firmware can put them in `static`s. When
@@ -60,7 +64,7 @@ use crate::raster::edge::first_row;
 use crate::raster::outside_guard;
 use crate::raster::setup::{lattice, Record};
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
-use crate::raster::{fill_gradient, ScreenVertex};
+use crate::raster::{fill_gradient, ScreenVertex, Walk};
 use crate::scene::ShadingMode;
 use crate::shade::{Flat, Gouraud, Shading};
 use crate::target::{PixelFormat, Target};
@@ -68,7 +72,8 @@ use crate::target::{PixelFormat, Target};
 /// Caller-owned memory of a frame drawn in bands: the setup records, the bins'
 /// index (record numbers, band after band) and the bins' starts.
 ///
-/// RAM: `records · 76 + index · 2 + starts · 4` bytes ([`BandMemory::bytes`]).
+/// RAM: `records · 76 + index · 2 + starts · 4` bytes ([`BandMemory::bytes`]), and
+/// `records · 48` more for walks ([`BandMemory::with_walks`]).
 /// `records` bounds the triangles drawn (after culling; a clipped triangle may give
 /// up to seven pieces); `index` needs one entry per record and band it reaches
 /// ([`BandMemory::index_len`]); `starts` one per band and one more
@@ -87,6 +92,7 @@ pub struct BandMemory<'m> {
     records: &'m mut [Record],
     index: &'m mut [u16],
     starts: &'m mut [u32],
+    walks: &'m mut [Walk],
 }
 
 impl<'m> BandMemory<'m> {
@@ -100,7 +106,39 @@ impl<'m> BandMemory<'m> {
             records,
             index,
             starts,
+            walks: &mut [],
         }
+    }
+
+    /// Lends, besides, one [`Walk`] per record (48 bytes each), for drawing the
+    /// bands in order with [`Binned::draw_band_resuming`]: each record's edge walk
+    /// then goes on from where the band above left it instead of being placed
+    /// afresh at every band it reaches. Fewer walks than records are not an error:
+    /// the walks are then not used.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// use fixshade::raster::{setup::Record, Walk};
+    /// use fixshade::render::BandMemory;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+    /// let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 96], [0u32; 25]);
+    /// let mut walks = [Walk::EMPTY; 4];
+    /// let mem = BandMemory::new(&mut records, &mut index, &mut starts).with_walks(&mut walks);
+    /// let mut binned = frame.bin(2, mem).unwrap();
+    /// let (mut color, mut depth) = ([0u16; 64 * 2], [u16::MAX; 64 * 2]);
+    /// let mut pixels = 0;
+    /// for band in 0..binned.bands() {
+    ///     let rows = binned.rows(band);
+    ///     let mut strip = Strip::new(&mut color, Some(&mut depth), 64, 48, rows.start, 2).unwrap();
+    ///     strip.clear(0);
+    ///     pixels += binned.draw_band_resuming::<Gradient, _>(band, &mut strip).unwrap().pixels;
+    /// }
+    /// assert!(pixels > 0);
+    /// ```
+    pub fn with_walks(self, walks: &'m mut [Walk]) -> BandMemory<'m> {
+        BandMemory { walks, ..self }
     }
 
     /// Bands of `band_rows` rows (at least 1) in a frame `height` rows tall.
@@ -125,7 +163,8 @@ impl<'m> BandMemory<'m> {
         records * if per < bands { per } else { bands }
     }
 
-    /// Bytes of RAM the three arrays take.
+    /// Bytes of RAM the three arrays take (and, with [`BandMemory::with_walks`],
+    /// `records · size_of::<Walk>()` more: 48 bytes a record).
     pub const fn bytes(records: usize, index: usize, starts: usize) -> usize {
         records * core::mem::size_of::<Record>() + index * 2 + starts * 4
     }
@@ -158,6 +197,8 @@ pub struct Binned<'f, 's, 'a, 'c, 'm, P: PixelFormat, Sp: Specular> {
     records: &'m [Record],
     index: &'m [u16],
     starts: &'m [u32],
+    /// One per record ([`BandMemory::with_walks`]), or none.
+    walks: &'m mut [Walk],
     band_rows: u32,
     complete: bool,
     stats: Stats,
@@ -180,6 +221,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             records,
             index,
             starts,
+            walks,
         } = mem;
         let mut st = Stats::default();
         if Sp::TWO_SIDED {
@@ -290,11 +332,19 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             starts[b] = starts[b - 1];
         }
         starts[0] = 0;
+        let walks = match walks.get_mut(..n) {
+            Some(w) => {
+                w.fill(Walk::EMPTY);
+                w
+            }
+            None => &mut [],
+        };
         Ok(Binned {
             frame: self,
             records,
             index: &index[..total],
             starts,
+            walks,
             band_rows,
             complete: true,
             stats: st,
@@ -308,6 +358,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             records: &[],
             index: &[],
             starts: &[],
+            walks: &mut [],
             band_rows,
             complete: false,
             stats: Stats::default(),
@@ -381,6 +432,33 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
         band: u32,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
+        self.draw_band_with::<S, T>(band, target, &mut [])
+    }
+
+    /// [`Binned::draw_band`], resuming each record's edge walk where the band
+    /// above left it, when the memory lent walks ([`BandMemory::with_walks`]): for
+    /// bands drawn in order by one thread (a walk up to 64 rows above is stepped
+    /// on, so every other band works too). The pixels are the same as
+    /// [`Binned::draw_band`]'s, in any order of bands; a band far from where a walk
+    /// stopped places it afresh.
+    pub fn draw_band_resuming<S: SpanMethod, T: Target<P>>(
+        &mut self,
+        band: u32,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        let walks = core::mem::take(&mut self.walks);
+        let r = self.draw_band_with::<S, T>(band, target, walks);
+        self.walks = walks;
+        r
+    }
+
+    /// [`Binned::draw_band`] with `walks`: one per record, or none.
+    fn draw_band_with<S: SpanMethod, T: Target<P>>(
+        &self,
+        band: u32,
+        target: &mut T,
+        walks: &mut [Walk],
+    ) -> Result<Stats, RenderError> {
         let f = self.frame;
         if target.width() != f.vp.width || target.frame_height() != f.vp.height {
             return Err(RenderError::TargetSizeMismatch);
@@ -401,10 +479,10 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
         let list = &self.index
             [self.starts[band as usize] as usize..self.starts[band as usize + 1] as usize];
         let pixels = match (f.scene.depth_test, f.scene.shading == ShadingMode::Flat) {
-            (true, false) => self.fill::<DepthTest, Gouraud, T>(list, target),
-            (true, true) => self.fill::<DepthTest, Flat, T>(list, target),
-            (false, false) => self.fill::<NoDepth, Gouraud, T>(list, target),
-            (false, true) => self.fill::<NoDepth, Flat, T>(list, target),
+            (true, false) => self.fill::<DepthTest, Gouraud, T>(list, target, walks),
+            (true, true) => self.fill::<DepthTest, Flat, T>(list, target, walks),
+            (false, false) => self.fill::<NoDepth, Gouraud, T>(list, target, walks),
+            (false, true) => self.fill::<NoDepth, Flat, T>(list, target, walks),
         };
         Ok(Stats {
             pixels,
@@ -412,10 +490,19 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
         })
     }
 
-    /// The records `list` drawn into `target` with the constant gradient.
-    fn fill<Z: DepthMode, Sh: Shading, T: Target<P>>(&self, list: &[u16], target: &mut T) -> u32 {
+    /// The records `list` drawn into `target` with the constant gradient, resuming
+    /// their walks from `walks` (one per record, or none).
+    fn fill<Z: DepthMode, Sh: Shading, T: Target<P>>(
+        &self,
+        list: &[u16],
+        target: &mut T,
+        walks: &mut [Walk],
+    ) -> u32 {
         list.iter()
-            .map(|&i| fill_gradient::<P, T, Z, Sh>(target, &self.records[i as usize]))
+            .map(|&i| {
+                let i = i as usize;
+                fill_gradient::<P, T, Z, Sh, _>(target, &self.records[i], walks.get_mut(i))
+            })
             .sum()
     }
 }
