@@ -356,6 +356,19 @@ fn cargo_build(
             cmd.env_remove(k);
         }
     }
+    // The images hold file paths (panic locations): one name for the checkout and
+    // one for cargo's home, so that an image's size and layout do not depend on
+    // where it was cloned (the micro:bit scene images fill their 256 KiB to within
+    // a few hundred bytes; a longer path overflowed one).
+    let home = std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")));
+    let mut flags = format!("--remap-path-prefix={}=/fixshade", root().display());
+    if let Some(h) = home {
+        flags.push_str(&format!("\x1f--remap-path-prefix={}=/cargo", h.display()));
+    }
+    cmd.env_remove("RUSTFLAGS")
+        .env("CARGO_ENCODED_RUSTFLAGS", flags);
     eprintln!(
         "xtask: cargo build --release {} (in {})",
         if features.is_empty() {
