@@ -624,6 +624,36 @@ const RESUME_ROWS: i32 = 64;
 /// placing the steppers afresh (a division each; see
 /// [`crate::render::Binned::draw_band_resuming`]). The steppers at a row are a
 /// function of the triangle and the row, so a resumed walk draws the same pixels.
+///
+/// A band memory lends one per record; the frame drawn band by band with walks is
+/// the frame drawn without them:
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::{setup::Record, Walk};
+/// use fixshade::render::BandMemory;
+/// # let scene = fixshade::doc_support::scene();
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let mut draw = |walks: &mut [Walk]| {
+///     let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 96], [0u32; 13]);
+///     let mem = BandMemory::new(&mut records, &mut index, &mut starts).with_walks(walks);
+///     let mut binned = frame.bin(4, mem).unwrap();
+///     let mut color = [0u16; 64 * 48];
+///     for band in 0..binned.bands() {
+///         let rows = binned.rows(band);
+///         let at = rows.start as usize * 64;
+///         let (mut c, mut d) = ([0u16; 64 * 4], [u16::MAX; 64 * 4]);
+///         let mut strip = Strip::new(&mut c, Some(&mut d), 64, 48, rows.start, 4).unwrap();
+///         binned.draw_band_resuming::<Gradient, _>(band, &mut strip).unwrap();
+///         color[at..at + c.len()].copy_from_slice(&c);
+///     }
+///     color
+/// };
+/// let with = draw(&mut [Walk::EMPTY; 4]);
+/// assert_eq!(with, draw(&mut []));
+/// assert!(with.iter().any(|&p| p != 0));
+/// ```
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Walk {
     /// The row the steppers stand on; `i32::MIN`: none.
