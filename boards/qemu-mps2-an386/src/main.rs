@@ -44,7 +44,7 @@ use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 use fixshade::{
     raster::{setup::Record, span::Gradient, Walk},
     render::{BandMemory, RenderError},
-    target::Strip,
+    target::{Rgb565Be, Strip},
 };
 #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 use fixshade_boards_common::cases;
@@ -322,6 +322,10 @@ fn run() -> Result<(), &'static str> {
         ))) && fig.name == "bench-sphere"
         {
             setup_cost(&scene, w, h, cache, &mut counter)?;
+        }
+        #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
+        if fig.name == "bench-sphere-32x20" && only(fig.name, "gradient") {
+            byte_orders_agree(&scene, fig, color, depth, cache)?;
         }
     }
     #[cfg(feature = "report")]
@@ -613,6 +617,49 @@ fn bytemuck_u16(p: &[u16]) -> &[u8] {
     unsafe {
         core::slice::from_raw_parts(p.as_ptr().cast::<u8>(), p.len() * 2)
     }
+}
+
+/// The frame in `Rgb565Be` is the `Rgb565Le` frame with each pixel's bytes
+/// swapped: the Cortex-M4's span loop in assembly stores the two byte orders by two
+/// paths, and the frames compared with the host are `Rgb565Le`. Logged as
+/// `FORMATS board figure rgb565be=rgb565le`; a difference ends the run.
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
+fn byte_orders_agree(
+    scene: &Scene<'_>,
+    fig: &Figure,
+    color: &mut [u16],
+    depth: &mut [u16],
+    cache: &mut [XfVertex],
+) -> Result<(), &'static str> {
+    let (w, h) = (fig.width, fig.height);
+    let n = (w * h) as usize;
+    if 2 * n > color.len() || 2 * n > depth.len() {
+        return Err("the byte-order check needs two frames of buffer");
+    }
+    let (le, be) = color[..2 * n].split_at_mut(n);
+    let (dle, dbe) = depth[..2 * n].split_at_mut(n);
+    let frame =
+        Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache[..]).map_err(|_| "prepare failed")?;
+    let mut fb = Framebuffer::<Rgb565Le>::new(le, Some(dle), w, h).map_err(|_| "framebuffer")?;
+    fb.clear(0);
+    frame
+        .draw::<Gradient, _>(&mut fb)
+        .map_err(|_| "draw failed")?;
+    let frame =
+        Frame::<Rgb565Be>::prepare(scene, w, h, &mut cache[..]).map_err(|_| "prepare failed")?;
+    let mut fb = Framebuffer::<Rgb565Be>::new(be, Some(dbe), w, h).map_err(|_| "framebuffer")?;
+    fb.clear(0);
+    frame
+        .draw::<Gradient, _>(&mut fb)
+        .map_err(|_| "draw failed")?;
+    if le.iter().zip(be.iter()).any(|(l, b)| l.swap_bytes() != *b) {
+        return Err("the Rgb565Be frame is not the Rgb565Le frame byte-swapped");
+    }
+    if le.iter().all(|&p| p == 0) {
+        return Err("the byte-order check drew nothing");
+    }
+    let _ = writeln!(Console, "FORMATS {BOARD} {} rgb565be=rgb565le", fig.name);
+    Ok(())
 }
 
 /// Instructions of triangle setup alone: the same loop over the frame's drawable

@@ -149,6 +149,19 @@ pub trait PixelFormat {
     }
     /// Appends the pixel's bytes, in memory order, to `out` (host output).
     fn bytes(p: Self::Raw) -> [u8; 3];
+    /// The row as `u16` pixels when the stored pixel is a `u16` (the 5-6-5 formats:
+    /// the ARMv7E-M span loop in assembly writes them); `None` otherwise.
+    ///
+    /// ```
+    /// use fixshade::target::{PixelFormat, Rgb565Be, Rgb888};
+    /// assert!(Rgb565Be::as_u16(&mut [0u16; 4]).is_some());
+    /// assert!(Rgb888::as_u16(&mut [[0u8; 3]; 4]).is_none());
+    /// ```
+    #[inline(always)]
+    fn as_u16(row: &mut [Self::Raw]) -> Option<&mut [u16]> {
+        let _ = row;
+        None
+    }
 }
 
 /// RGB 5-6-5 whose bytes in memory are little-endian on any CPU.
@@ -208,6 +221,10 @@ macro_rules! rgb565_format {
             fn bytes(p: u16) -> [u8; 3] {
                 let b = p.to_ne_bytes();
                 [b[0], b[1], 0]
+            }
+            #[inline(always)]
+            fn as_u16(row: &mut [u16]) -> Option<&mut [u16]> {
+                Some(row)
             }
         }
     };

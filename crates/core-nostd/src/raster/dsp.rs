@@ -75,6 +75,90 @@ pub const fn is_565<P: PixelFormat>() -> bool {
         && P::PLAIN_STORE
 }
 
+/// [`super::span::write_run`]'s packed loop with the depth test for the 5-6-5
+/// formats over 16-bit depth cells, in assembly: `min(color.len(), depth.len())`
+/// pixels from the packed colour `c` (red lane at bit 43, green at 21, blue at 0,
+/// 16 fraction bits each) and the Q16.16 depth `z`, stepping by `dc` and `dz`; a
+/// pixel is written where `z >> 16` is strictly below the stored depth, byte-swapped
+/// when `swap` (Rgb565Be). The compiler unrolls the Rust loop four times and spills
+/// its steps to the stack (20 instructions a written pixel); here a written pixel
+/// takes 16 and a hidden one 8, the pixels and depths unchanged.
+#[cfg(fixshade_dsp)]
+#[inline(always)]
+pub(crate) fn packed_565_span(
+    color: &mut [u16],
+    depth: &mut [u16],
+    c: u64,
+    dc: u64,
+    z: i32,
+    dz: i32,
+    swap: bool,
+) {
+    let n = color.len().min(depth.len());
+    if n == 0 {
+        return;
+    }
+    // Both rows are indexed from their ends by a negative byte offset that steps
+    // up to zero: one register and one flag-setting add count the loop.
+    let (cp, dp) = (color[n..].as_mut_ptr(), depth[n..].as_mut_ptr());
+    // n ≤ 4096 (the guard band): 2n fits i32.
+    let i = -2 * n as i32;
+    let (lo, hi) = (c as u32, (c >> 32) as u32);
+    let (dlo, dhi) = (dc as u32, (dc >> 32) as u32);
+    macro_rules! run {
+        ($($rev:literal)?) => {
+            // SAFETY: the loads and stores are at `cp + i` and `dp + i` for
+            // i = −2n, −2n + 2, …, −2, that is the n two-byte cells of `color[..n]`
+            // and `depth[..n]`, which this function borrows mutably; registers
+            // only otherwise (the flags are clobbered, the stack untouched).
+            #[allow(unsafe_code)]
+            unsafe {
+                core::arch::asm!(
+                    "2:",
+                    "ldrh {t}, [{dp}, {i}]",
+                    // Stored ≤ new: the pixel stays.
+                    "cmp {t}, {z}, lsr #16",
+                    "bls 3f",
+                    "lsrs {t}, {z}, #16",
+                    "strh {t}, [{dp}, {i}]",
+                    // Green's integer bits are 37..43 of c (5..11 of hi), red's
+                    // 59..64 (27..32 of hi), blue's 16..21 (of lo).
+                    "and {t}, {hi}, #0x7e0",
+                    "lsrs {u}, {hi}, #27",
+                    "orr {t}, {t}, {u}, lsl #11",
+                    "ubfx {u}, {lo}, #16, #5",
+                    "orr {t}, {t}, {u}",
+                    $($rev,)?
+                    "strh {t}, [{cp}, {i}]",
+                    "3:",
+                    "adds {lo}, {lo}, {dlo}",
+                    "adc {hi}, {hi}, {dhi}",
+                    "add {z}, {z}, {dz}",
+                    "adds {i}, {i}, #2",
+                    "bne 2b",
+                    cp = in(reg) cp,
+                    dp = in(reg) dp,
+                    i = inout(reg) i => _,
+                    lo = inout(reg) lo => _,
+                    hi = inout(reg) hi => _,
+                    dlo = in(reg) dlo,
+                    dhi = in(reg) dhi,
+                    z = inout(reg) z => _,
+                    dz = in(reg) dz,
+                    t = out(reg) _,
+                    u = out(reg) _,
+                    options(nostack),
+                );
+            }
+        };
+    }
+    if swap {
+        run!("rev16 {t}, {t}");
+    } else {
+        run!();
+    }
+}
+
 /// `(hi & 0xFFFF_0000) | (lo >> 16)`: the top halves of `hi` and `lo`, `hi`'s on
 /// top (`PKHTB hi, lo, ASR #16`).
 ///
