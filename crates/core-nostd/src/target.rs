@@ -150,7 +150,7 @@ pub trait PixelFormat {
     /// Appends the pixel's bytes, in memory order, to `out` (host output).
     fn bytes(p: Self::Raw) -> [u8; 3];
     /// The row as `u16` pixels when the stored pixel is a `u16` (the 5-6-5 formats:
-    /// the ARMv7E-M span loop in assembly writes them); `None` otherwise.
+    /// the Cortex-M span loops in assembly write them); `None` otherwise.
     ///
     /// ```
     /// use fixshade::target::{PixelFormat, Rgb565Be, Rgb888};

@@ -27,6 +27,8 @@
 //! assert_eq!(rows, ["###.....", "##......", "#.......", "........"]);
 //! ```
 
+#[cfg(any(fixshade_dsp, fixshade_v6m))]
+mod asm;
 pub mod dsp;
 pub mod edge;
 pub mod parallel;

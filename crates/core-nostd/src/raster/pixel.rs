@@ -242,9 +242,9 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
     mut z: i32,
     dz: i32,
 ) {
-    // On ARMv7E-M the 5-6-5 formats over 16-bit depth take the loop in assembly:
-    // the same pixels, 16 instructions a written pixel instead of 20.
-    #[cfg(fixshade_dsp)]
+    // On the Cortex-M cores the 5-6-5 formats over 16-bit depth take the loop in
+    // assembly (see `super::asm`): the same pixels in fewer instructions.
+    #[cfg(any(fixshade_dsp, fixshade_v6m))]
     if Z::TEST
         && super::dsp::is_565::<P>()
         && Packed::<P>::OFF[0] == 43
@@ -253,7 +253,7 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
         if let (Some(cr), Some(dr)) = (P::as_u16(&mut *color), DepthFormat::as_u16(&mut *depth)) {
             // Rgb565Le stores the 5-6-5 value as it is, Rgb565Be byte-swapped.
             let swap = P::bytes(P::pack(0, 0, 1))[0] != 1;
-            super::dsp::packed_565_span(cr, dr, c, dc, z, dz, swap);
+            super::asm::packed_565_span(cr, dr, c, dc, z, dz, swap);
             return;
         }
     }
