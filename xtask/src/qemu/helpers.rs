@@ -158,6 +158,7 @@ pub(super) fn per_frame(
     let mut size: HashMap<u32, u64> = HashMap::new();
     let mut block: Option<u32> = None;
     let (mut on, mut acc, mut frames) = (false, 0u64, Vec::new());
+    let mut last: Option<u32> = None;
     for line in BufReader::new(file).lines() {
         let line = line.map_err(|e| e.to_string())?;
         if line.starts_with("IN:") {
@@ -187,7 +188,14 @@ pub(super) fn per_frame(
                 .and_then(|f| f.split('/').nth(1))
                 .and_then(|a| u32::from_str_radix(a, 16).ok())
                 .ok_or_else(|| format!("bad log line: {line}"))?;
+            // A block whose run the instruction budget cuts off before its first
+            // instruction (an interrupt due there) is traced again when it runs:
+            // two traces of a marker in a row are one call (a frame has a measured
+            // span between two of its markers).
+            let again = last == Some(pc);
+            last = Some(pc);
             match marker.get(&pc) {
+                Some(_) if again => {}
                 Some(Marker::On) => on = true,
                 Some(Marker::Off) => on = false,
                 Some(Marker::Frame) => frames.push(std::mem::take(&mut acc)),
