@@ -15,9 +15,11 @@
 //! ```
 //!
 //! There is no floating point anywhere (`clippy::float_arithmetic` is denied), no
-//! allocation, and no `unsafe`. All arithmetic is integer, so the same frame has the
-//! same bytes on the host and on every MCU. Overflow bounds are written next to the
-//! arithmetic that relies on them.
+//! allocation, and no `unsafe` but the `asm!` blocks of the Cortex-M span loops
+//! ([`raster::dsp`] and Gradient's packed loop), each allowed on its own with a
+//! SAFETY comment. All arithmetic is integer, so the same frame has the same bytes
+//! on the host and on every MCU. Overflow bounds are written next to the arithmetic
+//! that relies on them.
 //!
 //! Start with [`prelude`] and [`renderer::Renderer`] (the example below); the stage
 //! modules hold the building blocks, each with its contract in its docs.
