@@ -54,26 +54,7 @@ use super::setup::ATTRS;
 use super::span::DepthMode;
 use crate::target::{DepthFormat, PixelFormat};
 
-/// True for the formats the paired loops draw: three channels of 5, 6 and 5 bits
-/// (the packed lanes of 21 + 22 + 21 bits, red at bit 43, green at 21, blue at 0),
-/// a two-byte stored pixel (so `pack` is a bijection and `pack(unpack(p)) == p`) and
-/// a plain store (so a kept pixel may be written back).
-///
-/// ```
-/// use fixshade::raster::dsp::is_565;
-/// use fixshade::target::{Gray8, Rgb565Be, Rgb565Le, Rgb888};
-/// assert!(is_565::<Rgb565Le>() && is_565::<Rgb565Be>());
-/// assert!(!is_565::<Rgb888>() && !is_565::<Gray8>());
-/// ```
-pub const fn is_565<P: PixelFormat>() -> bool {
-    !P::GRAY
-        && P::MAX[0] == 31
-        && P::MAX[1] == 63
-        && P::MAX[2] == 31
-        && P::BYTES == 2
-        && core::mem::size_of::<P::Raw>() == 2
-        && P::PLAIN_STORE
-}
+pub use crate::target::is_565;
 
 /// `(hi & 0xFFFF_0000) | (lo >> 16)`: the top halves of `hi` and `lo`, `hi`'s on
 /// top (`PKHTB hi, lo, ASR #16`).

@@ -246,7 +246,7 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
     // assembly (see `super::asm`): the same pixels in fewer instructions.
     #[cfg(any(fixshade_dsp, fixshade_v6m))]
     if Z::TEST
-        && super::dsp::is_565::<P>()
+        && crate::target::is_565::<P>()
         && Packed::<P>::OFF[0] == 43
         && Packed::<P>::OFF[1] == 21
     {
