@@ -594,6 +594,17 @@ mod tests {
         }
     }
 
+    /// The core's modules have no import cycle either (`raster::pixel` reaches the
+    /// Cortex-M loops of `raster::asm`, which import nothing; `raster::dsp` the
+    /// span stage).
+    #[test]
+    fn core_has_no_import_cycle() {
+        let dir = crate::qemu::root().join("crates/core-nostd/src");
+        assert!(files(&dir).len() > 30);
+        let (n, text) = report(&dir).unwrap();
+        assert_eq!(n, 0, "import cycles in crates/core-nostd/src:\n{text}");
+    }
+
     /// Cycles through `use` trees, re-exports, `super`, inline paths, macros and
     /// inline modules are found; comments, strings and child declarations are not
     /// dependencies.
