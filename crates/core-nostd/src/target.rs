@@ -150,7 +150,10 @@ pub trait PixelFormat {
     /// Appends the pixel's bytes, in memory order, to `out` (host output).
     fn bytes(p: Self::Raw) -> [u8; 3];
     /// The row as `u16` pixels when the stored pixel is a `u16` (the 5-6-5 formats:
-    /// the Cortex-M span loops in assembly write them); `None` otherwise.
+    /// the Cortex-M span loops in assembly write them); `None` otherwise. A format
+    /// that returns `Some` promises that `pack(r, g, b)` is `r << 11 | g << 5 | b`
+    /// stored little-endian, or byte-swapped (told apart by the bytes of
+    /// `pack(0, 0, 1)`): those loops write that value, not `pack`'s.
     ///
     /// ```
     /// use fixshade::target::{PixelFormat, Rgb565Be, Rgb888};
