@@ -22,8 +22,8 @@
 //! # Why there is `unsafe` here
 //!
 //! The crate denies `unsafe_code`; each `asm!` block is under its own
-//! `#[allow(unsafe_code)]` with a SAFETY comment: it loads and stores only the
-//! cells of the two rows it borrows mutably, and leaves the stack alone.
+//! `#[allow(unsafe_code)]` with a SAFETY comment: it stores only into the cells of
+//! the two rows it borrows mutably, reads only those and its inputs, pushes nothing.
 
 /// The rows' first `n = min(color.len(), depth.len())` pixels as the packed loop
 /// writes them; `swap`: store the pixel byte-swapped (`Rgb565Be`).
