@@ -54,7 +54,9 @@
 
 mod adaptive;
 pub mod bands;
+mod fills;
 mod frame;
+mod walk;
 
 pub use bands::{BandMemory, Binned};
 pub use frame::{Frame, RenderError, Stats, XfVertex, NEEDED, OUTSIDE};

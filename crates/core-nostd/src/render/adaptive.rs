@@ -14,13 +14,13 @@
 //! With perspective correction each kind of triangle goes through its perspective
 //! fill ([`crate::raster::perspective`]); the choice between them is the same.
 
-use super::frame::{
-    classify, clip_w, eye_normal, project_clamped, Class, Frame, RenderError, Stats,
-};
-use crate::clip::{clip_triangle, is_front, ClipVertex};
+use core::marker::PhantomData;
+
+use super::fills::{persp_w, Lit};
+use super::frame::{Frame, RenderError, Stats};
+use super::walk::{Triangle, TriangleFill};
 use crate::divide::Divide;
 use crate::light::{LightingSetup, Specular};
-use crate::math::Affine3;
 use crate::raster::draw_triangle;
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{draw_phong_div, PhongVertex, Rows};
@@ -67,122 +67,85 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
         if Sp::TWO_SIDED {
             return Err(RenderError::TwoSidedUnsupported);
         }
-        // One Phong triangle with its clip-space w.
-        let phong =
-            |target: &mut T, v: [PhongVertex; 3], w: [i64; 3], light: &LightingSetup<Sp>| {
-                match persp {
-                    Some(m) => draw_phong_perspective::<P, T, Z, D, _>(target, v, w, m, light),
-                    None => draw_phong_div::<P, T, Z, Rows, D, _>(target, v, light),
-                }
-            };
-        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
-        let mut st = Stats::default();
-        let cull = self.scene.cull_back;
         let rows = target.rows();
-        let limit = half_step::<P>();
-        for (i, (obj, prep)) in self.prepared().enumerate() {
-            let mv = view.mul(&obj.placement.matrix());
-            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
-            let light: LightingSetup<Sp> = self.lighting(obj, &view);
-            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
-            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
-            let eye = |i: usize| -> ([i32; 3], [i32; 3]) {
-                (eye_normal(&aff, &nrm[i]), aff.point(&pos[i]))
-            };
-            for tri in obj.mesh.triangles() {
-                st.triangles += 1;
-                let t = tri.map(|i| verts[i as usize]);
-                let class = classify(&t, cull, &self.vp, rows.clone());
-                if let Class::Skip(why) = class {
-                    st.skip(why);
-                    continue;
-                }
-                let e: [([i32; 3], [i32; 3]); 3] = core::array::from_fn(|k| eye(tri[k] as usize));
-                if class == Class::Draw {
-                    let n = e.map(|v| v.0);
-                    let p = e.map(|v| v.1);
-                    st.drawn += 1;
-                    let w = clip_w(persp, prep.clip(), pos, *tri);
-                    // Twice the area in Q12.4² (256 per pixel): |·| < 2⁶³ for
-                    // coordinates within ±2²⁰ (the guard band is far inside).
-                    let area2 = crate::clip::signed_area(
-                        (t[0].s.x, t[0].s.y),
-                        (t[1].s.x, t[1].s.y),
-                        (t[2].s.x, t[2].s.y),
-                    )
-                    .abs();
-                    if area2 >= 2 * 256 * PHONG_BELOW_PIXELS
-                        && light.within_bounds(&n, &p, limit, DIFFUSE_STEPS * 2 * limit)
-                    {
-                        let s = [t[0].s, t[1].s, t[2].s];
-                        st.pixels += match persp {
-                            Some(m) => {
-                                draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, m)
-                            }
-                            None => draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(
-                                target, s,
-                            ),
-                        };
-                    } else {
-                        st.per_pixel += 1;
-                        let pv = core::array::from_fn(|k| {
-                            let s = t[k].s;
-                            PhongVertex {
-                                x: s.x,
-                                y: s.y,
-                                z: s.z,
-                                n: e[k].0,
-                                p: e[k].1,
-                            }
-                        });
-                        st.pixels += phong(target, pv, w, &light);
-                    }
-                    continue;
-                }
-                // Through the clipper: Phong, as `draw_phong` does.
-                st.clipped += 1;
-                st.per_pixel += 1;
-                let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
-                    let (n, p) = e[k];
-                    ClipVertex {
-                        pos: prep.clip().transform(&pos[tri[k] as usize]),
-                        c: [n[0], n[1], n[2], p[0], p[1], p[2]],
-                    }
-                });
-                let poly = clip_triangle(cv, &self.vp);
-                let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
-                let mut pw = [1i64; crate::clip::MAX_POLY];
-                for ((o, ow), v) in pv
-                    .iter_mut()
-                    .zip(pw.iter_mut())
-                    .zip(poly.v[..poly.len].iter())
-                {
-                    let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
-                        continue;
-                    };
-                    *ow = v.pos[3];
-                    let c = v.c;
-                    *o = PhongVertex {
-                        x,
-                        y,
-                        z,
-                        n: [c[0], c[1], c[2]],
-                        p: [c[3], c[4], c[5]],
-                    };
-                }
-                for k in 1..poly.len.saturating_sub(1) {
-                    let tri = [pv[0], pv[k], pv[k + 1]];
-                    let pts = tri.map(|v| (v.x, v.y));
-                    let area = crate::clip::signed_area(pts[0], pts[1], pts[2]);
-                    if area == 0 || (cull && !is_front(pts[0], pts[1], pts[2])) {
-                        continue;
-                    }
-                    st.drawn += 1;
-                    st.pixels += phong(target, tri, [pw[0], pw[k], pw[k + 1]], &light);
-                }
-            }
+        let mut fill = AdaptiveFill::<T, D, Z> {
+            target,
+            persp,
+            limit: half_step::<P>(),
+            _kind: PhantomData,
+        };
+        self.walk(rows, &mut fill)
+    }
+}
+
+/// Adaptive shading's fill for the triangle walk: Gouraud or Phong per triangle
+/// inside the guard band (see the [module docs](self)), Phong through the clipper,
+/// with the divider `D` and the depth mode `Z`; perspective-correct with `persp`.
+struct AdaptiveFill<'t, T, D, Z> {
+    target: &'t mut T,
+    persp: Option<Perspective>,
+    /// [`half_step`] of the target's format.
+    limit: i64,
+    _kind: PhantomData<(D, Z)>,
+}
+
+impl<T, D: Divide, Z: DepthMode> AdaptiveFill<'_, T, D, Z> {
+    /// One Phong triangle with its clip-space w.
+    #[inline(always)]
+    fn phong<P: PixelFormat, Sp: Specular>(
+        &mut self,
+        v: [PhongVertex; 3],
+        w: [i64; 3],
+        light: &LightingSetup<Sp>,
+    ) -> u32
+    where
+        T: Target<P>,
+    {
+        match self.persp {
+            Some(m) => draw_phong_perspective::<P, T, Z, D, _>(self.target, v, w, m, light),
+            None => draw_phong_div::<P, T, Z, Rows, D, _>(self.target, v, light),
         }
-        Ok(st)
+    }
+}
+
+impl<P: PixelFormat, Sp: Specular, T: Target<P>, D: Divide, Z: DepthMode> TriangleFill<P, Sp>
+    for AdaptiveFill<'_, T, D, Z>
+{
+    type PerObject = Lit<Sp>;
+
+    #[inline(always)]
+    fn inside(&mut self, lit: &Lit<Sp>, tri: &Triangle<'_, '_>, st: &mut Stats) -> u32 {
+        let pv = lit.phong_vertices(tri, false);
+        let n = [pv[0].n, pv[1].n, pv[2].n];
+        let p = [pv[0].p, pv[1].p, pv[2].p];
+        let w = persp_w(self.persp, tri);
+        let t = tri.screen();
+        // Twice the area in Q12.4² (256 per pixel): |·| < 2⁶³ for coordinates
+        // within ±2²⁰ (the guard band is far inside).
+        let area2 =
+            crate::clip::signed_area((t[0].x, t[0].y), (t[1].x, t[1].y), (t[2].x, t[2].y)).abs();
+        let limit = self.limit;
+        if area2 >= 2 * 256 * PHONG_BELOW_PIXELS
+            && lit
+                .light
+                .within_bounds(&n, &p, limit, DIFFUSE_STEPS * 2 * limit)
+        {
+            let s = [*t[0], *t[1], *t[2]];
+            match self.persp {
+                Some(m) => draw_triangle_perspective::<P, T, Z, Gouraud, D>(self.target, s, w, m),
+                None => draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(self.target, s),
+            }
+        } else {
+            st.per_pixel += 1;
+            self.phong::<P, Sp>(pv, w, &lit.light)
+        }
+    }
+
+    /// Through the clipper: Phong, as [`Frame::draw_with`] draws it.
+    #[inline(always)]
+    fn clipped(&mut self, lit: &Lit<Sp>, tri: &Triangle<'_, '_>, st: &mut Stats) {
+        st.per_pixel += 1;
+        lit.clip_phong(tri, st, |v, w, light| self.phong::<P, Sp>(v, w, light));
     }
 }
 

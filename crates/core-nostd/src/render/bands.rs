@@ -57,14 +57,14 @@
 
 use core::ops::Range;
 
-use super::frame::{classify_refs, Class, Frame, RenderError, Stats, XfVertex};
-use crate::clip::ClipVertex;
+use super::frame::{Frame, RenderError, Stats};
+use super::walk::{Triangle, TriangleFill};
 use crate::light::Specular;
 use crate::raster::edge::first_row;
 use crate::raster::outside_guard;
 use crate::raster::setup::{lattice, Record};
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
-use crate::raster::{fill_gradient, ScreenVertex, Walk};
+use crate::raster::{fill_gradient, Walk};
 use crate::scene::ShadingMode;
 use crate::shade::{Flat, Gouraud, Shading};
 use crate::target::{PixelFormat, Target};
@@ -223,7 +223,6 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             starts,
             walks,
         } = mem;
-        let mut st = Stats::default();
         if Sp::TWO_SIDED {
             // No records of the back colours: bands re-walk.
             return Ok(self.unbinned(band_rows));
@@ -240,56 +239,16 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             return Ok(self.unbinned(band_rows));
         }
         // 1. Every triangle classified and set up once, as a whole-frame draw does.
-        let mut n = 0usize;
-        let mut full = false;
-        let mut push = |r: Option<Record>| {
-            let Some(r) = r else { return };
-            match records.get_mut(n) {
-                Some(slot) => {
-                    *slot = r;
-                    n += 1;
-                }
-                None => full = true,
-            }
+        let mut fill = Binner {
+            records,
+            n: 0,
+            full: false,
+            flat,
         };
-        let cull = self.scene.cull_back;
-        for (obj, prep) in self.prepared() {
-            let pos = obj.mesh.positions();
-            let verts = &self.cache[prep.offset..prep.offset + pos.len()];
-            for tri in obj.mesh.triangles() {
-                st.triangles += 1;
-                let t: [&XfVertex; 3] = tri.map(|i| &verts[i as usize]);
-                let colour = |k: usize| if flat { t[2].s.c } else { t[k].s.c };
-                match classify_refs(t, cull, &self.vp, 0..height as i32) {
-                    Class::Skip(why) => st.skip(why),
-                    Class::Draw => {
-                        st.drawn += 1;
-                        if flat {
-                            let s: [ScreenVertex; 3] = core::array::from_fn(|k| ScreenVertex {
-                                c: colour(k),
-                                ..t[k].s
-                            });
-                            push(lattice([&s[0], &s[1], &s[2]]));
-                        } else {
-                            push(lattice([&t[0].s, &t[1].s, &t[2].s]));
-                        }
-                    }
-                    Class::Clip => {
-                        st.clipped += 1;
-                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                            pos: prep.clip().transform(&pos[tri[k] as usize]),
-                            c: colour(k),
-                        });
-                        self.clip_fan(cv, cull, &mut st, |s, _| {
-                            if !outside_guard(s.map(|p| (p.x, p.y))) {
-                                push(lattice([&s[0], &s[1], &s[2]]));
-                            }
-                            0
-                        });
-                    }
-                }
-            }
-        }
+        let st = self.walk(0..height as i32, &mut fill)?;
+        let Binner {
+            records, n, full, ..
+        } = fill;
         if full || n > u16::MAX as usize + 1 {
             return Ok(Binned {
                 stats: st,
@@ -363,6 +322,57 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             complete: false,
             stats: Stats::default(),
         }
+    }
+}
+
+/// The binning's fill for the triangle walk: each triangle set up into a record
+/// of `records` (Gouraud colours, or the last vertex's with `flat`), clipped ones
+/// piece by piece; `full` once a record did not fit. Covers no pixels.
+struct Binner<'m> {
+    records: &'m mut [Record],
+    /// Records written.
+    n: usize,
+    full: bool,
+    flat: bool,
+}
+
+impl Binner<'_> {
+    /// Keeps the record of a set-up triangle (none for an empty one).
+    #[inline(always)]
+    fn push(&mut self, r: Option<Record>) {
+        let Some(r) = r else { return };
+        match self.records.get_mut(self.n) {
+            Some(slot) => {
+                *slot = r;
+                self.n += 1;
+            }
+            None => self.full = true,
+        }
+    }
+}
+
+impl<P: PixelFormat, Sp: Specular> TriangleFill<P, Sp> for Binner<'_> {
+    type PerObject = ();
+
+    #[inline(always)]
+    fn inside(&mut self, _: &(), tri: &Triangle<'_, '_>, _: &mut Stats) -> u32 {
+        if self.flat {
+            let s = tri.coloured(false, false);
+            self.push(lattice([&s[0], &s[1], &s[2]]));
+        } else {
+            self.push(lattice(tri.screen()));
+        }
+        0
+    }
+
+    #[inline(always)]
+    fn clipped(&mut self, _: &(), tri: &Triangle<'_, '_>, st: &mut Stats) {
+        tri.clip_coloured::<Sp>(!self.flat, st, |s, _| {
+            if !outside_guard(s.map(|p| (p.x, p.y))) {
+                self.push(lattice([&s[0], &s[1], &s[2]]));
+            }
+            0
+        });
     }
 }
 

@@ -1,23 +1,19 @@
-//! The frame: the vertex stage ([`Frame::prepare`]) and the triangle loops that
-//! draw a prepared frame (`Frame::draw*`), with what they report ([`Stats`],
-//! [`RenderError`]). Re-exported by [`super`], whose docs hold the example.
+//! The frame: the vertex stage ([`Frame::prepare`]) and the draw calls of a
+//! prepared frame (`Frame::draw*`, each a [`super::walk`] with its shading mode's
+//! fill), with what they report ([`Stats`], [`RenderError`]). Re-exported by [`super`], whose docs hold the example.
 
 use core::marker::PhantomData;
 
-use crate::clip::{clip_triangle, is_front, ClipVertex};
+use super::fills::{PerPixel, PerspectiveColours, QuadraticColours, VertexColours};
 use crate::divide::{Divide, Exact};
-use crate::fixed::Q16_16;
 use crate::geometry::{Projector, Viewport};
 use crate::light::{BlinnExact, LightingSetup, Specular};
 use crate::math::{mul_wide_16, normalize_to_q30, Affine3, Mat4, Vec3, VertexTransform, ONE_Q30};
-use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
-use crate::raster::phong::{
-    self, draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling,
-};
-use crate::raster::quadratic::draw_quadratic_div;
+use crate::raster::perspective::Perspective;
+use crate::raster::phong::{self, PhongFill, Sampling};
+use crate::raster::span::Gradient;
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
-use crate::raster::span::{Gradient, WithDivide};
-use crate::raster::{draw_in_guard, draw_triangle, ScreenVertex};
+use crate::raster::ScreenVertex;
 use crate::scene::{Object, Projection, Scene, ShadingMode, MAX_OBJECTS};
 use crate::shade::{Adaptive, Flat, Gouraud, Phong, PhongEvenOdd, Quadratic, Shading};
 use crate::target::{to_channels, PixelFormat, Target};
@@ -228,7 +224,7 @@ fn light_back<P: PixelFormat, Sp: Specular>(
 /// True if the screen triangle `t` is a back face: the sign test of back-face
 /// culling ([`classify_refs`]: positive area with y down).
 #[inline(always)]
-fn is_back(t: [&ScreenVertex; 3]) -> bool {
+pub(super) fn is_back(t: [&ScreenVertex; 3]) -> bool {
     crate::clip::signed_area((t[0].x, t[0].y), (t[1].x, t[1].y), (t[2].x, t[2].y)) > 0
 }
 
@@ -716,7 +712,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     /// the back entries hold the back colours of two-sided lighting; one-sided,
     /// they are the front entries again.
     #[inline(always)]
-    fn sides(&self, offset: usize, n: usize) -> (&[XfVertex], &[XfVertex]) {
+    pub(super) fn sides(&self, offset: usize, n: usize) -> (&[XfVertex], &[XfVertex]) {
         let front = &self.cache[offset..offset + n];
         if Sp::TWO_SIDED {
             let b = self.back + offset;
@@ -728,7 +724,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
 
     /// An object's lighting setup for its back faces under two-sided lighting: the
     /// back material, or the front one when it has none.
-    fn back_lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
+    pub(super) fn back_lighting(&self, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
         LightingSetup::<Sp>::new(
             &self.scene.lights,
             view,
@@ -736,6 +732,11 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             self.scene.global_ambient,
             self.scene.local_viewer,
         )
+    }
+
+    /// The frame's view matrix (the camera's, as [`Frame::prepare`] built it).
+    pub(super) fn view(&self) -> &Mat4 {
+        &self.view
     }
 
     /// Builds an object's lighting setup for this frame's specular model.
@@ -804,120 +805,8 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 self.draw_phong::<S::Divider, Z, phong::Rows, T>(target, None, None)
             };
         }
-        let mut st = Stats::default();
-        let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (obj, prep) in self.prepared() {
-            let pos = obj.mesh.positions();
-            let (verts, backs) = self.sides(prep.offset, pos.len());
-            for tri in obj.mesh.triangles() {
-                st.triangles += 1;
-                // The back colours (two-sided lighting; one-sided, the same vertices).
-                let b = tri.map(|i| &backs[i as usize]);
-                if !S::SNAPS {
-                    // The usual path: the three vertices are read in place.
-                    let t = tri.map(|i| &verts[i as usize]);
-                    let class = classify_refs(t, cull, &self.vp, rows.clone());
-                    self.draw_classified::<S, Z, Sh, T>(
-                        target,
-                        (t, b),
-                        class,
-                        (pos, tri, &prep),
-                        &mut st,
-                    );
-                    continue;
-                }
-                // A method that moves vertices is culled on the moved ones, and only
-                // triangles drawable before the move are drawn (the vertex stage lit
-                // only their vertices): a sliver that turns front by snapping is
-                // dropped (a documented coverage exception). The test is on the
-                // triangle itself over the whole frame, so the result does not depend
-                // on its neighbours or on the target's rows.
-                let mut t = tri.map(|i| verts[i as usize]);
-                let whole = 0..self.vp.height as i32;
-                if let Class::Skip(why) = classify(&t, cull, &self.vp, whole) {
-                    st.skip(why);
-                    continue;
-                }
-                for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
-                    v.s = S::snap(v.s);
-                }
-                let class = classify(&t, cull, &self.vp, rows.clone());
-                let t = [&t[0], &t[1], &t[2]];
-                self.draw_classified::<S, Z, Sh, T>(
-                    target,
-                    (t, b),
-                    class,
-                    (pos, tri, &prep),
-                    &mut st,
-                );
-            }
-        }
-        Ok(st)
-    }
-
-    /// Draws one triangle of [`Frame::draw_with`] as classified: `t` its vertices
-    /// (snapped for a method that snaps) and `b` its back colours (two-sided
-    /// lighting; otherwise unused), `tri` its indices into the object's positions
-    /// `pos` (clipping transforms them again). Flat shading takes the last vertex's
-    /// colour. A triangle classified inside the guard band goes to the setup
-    /// directly; snapped vertices are tested again, since snapping moves them.
-    #[inline(always)]
-    fn draw_classified<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
-        &self,
-        target: &mut T,
-        (t, b): ([&XfVertex; 3], [&XfVertex; 3]),
-        class: Class,
-        (pos, tri, prep): (&[Vec3], &[u16; 3], &Prepared<'_>),
-        st: &mut Stats,
-    ) {
-        // Two-sided lighting: a back face takes the back colours.
-        let back = Sp::TWO_SIDED && class == Class::Draw && is_back([&t[0].s, &t[1].s, &t[2].s]);
-        let pick = |v: [&XfVertex; 3], k: usize| if Sh::INTERPOLATE { v[k].s.c } else { v[2].s.c };
-        let colour = |k: usize| if back { pick(b, k) } else { pick(t, k) };
-        match class {
-            Class::Skip(why) => st.skip(why),
-            Class::Draw => {
-                st.drawn += 1;
-                st.pixels += if S::SNAPS {
-                    let s = core::array::from_fn(|k| ScreenVertex {
-                        c: colour(k),
-                        ..t[k].s
-                    });
-                    draw_triangle::<P, T, S, Z, Sh>(target, s)
-                } else if Sh::INTERPOLATE && !back {
-                    // The cached vertices as they are: no copy.
-                    draw_in_guard::<P, T, S, Z, Sh>(target, [&t[0].s, &t[1].s, &t[2].s])
-                } else {
-                    let s: [ScreenVertex; 3] = core::array::from_fn(|k| ScreenVertex {
-                        c: colour(k),
-                        ..t[k].s
-                    });
-                    draw_in_guard::<P, T, S, Z, Sh>(target, [&s[0], &s[1], &s[2]])
-                };
-            }
-            Class::Clip if Sp::TWO_SIDED => {
-                st.clipped += 1;
-                let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
-                    let (f, r) = (pick(t, k), pick(b, k));
-                    ClipVertex {
-                        pos: prep.clip().transform(&pos[tri[k] as usize]),
-                        c: [f[0], f[1], f[2], r[0], r[1], r[2]],
-                    }
-                });
-                self.clip_fan_sided(cv, self.scene.cull_back, st, |tri, _| {
-                    draw_triangle::<P, T, S, Z, Sh>(target, tri)
-                });
-            }
-            Class::Clip => {
-                st.clipped += 1;
-                let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                    pos: prep.clip().transform(&pos[tri[k] as usize]),
-                    c: colour(k),
-                });
-                self.draw_clipped::<S, Z, Sh, T>(target, cv, self.scene.cull_back, st);
-            }
-        }
+        self.walk(rows, &mut VertexColours::<T, S, Z, Sh>::new(target))
     }
 
     /// Phong shading with the lighting sampled by pixel segments (seed 002 §2.6, see
@@ -963,106 +852,8 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         &self,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
-        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
-        let mut st = Stats::default();
-        let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (i, (obj, prep)) in self.prepared().enumerate() {
-            let mv = view.mul(&obj.placement.matrix());
-            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
-            let (verts, backs) = self.sides(prep.offset, obj.mesh.positions().len());
-            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
-            let nm = &aff.normal;
-            let light = self.lighting(obj, &view);
-            // Two-sided lighting: back faces take the back colours at the vertices
-            // and light their midpoints with the negated normal and the back material.
-            let back_light = if Sp::TWO_SIDED {
-                Some(self.back_lighting(obj, &view))
-            } else {
-                None
-            };
-            {
-                let shade = |p: [i32; 3], n: [i32; 3], back: bool| match (&back_light, back) {
-                    // Q2.30 components within ±2³⁰: the negation cannot overflow.
-                    (Some(b), true) => b.shade(p, n.map(|c| -c)),
-                    _ => light.shade(p, n),
-                };
-                // The colour lit at the midpoint of the edge a–b.
-                let mid =
-                    |a: usize, b: usize, ca: [i32; 3], cb: [i32; 3], back: bool| -> [i32; 3] {
-                        let m: Vec3 = core::array::from_fn(|k| {
-                            Q16_16::from_bits(
-                                ((pos[a][k].to_bits() as i64 + pos[b][k].to_bits() as i64) >> 1)
-                                    as i32,
-                            )
-                        });
-                        let n: [i64; 3] = core::array::from_fn(|k| {
-                            nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64
-                        });
-                        // Entries < 2^31, components < 2^16: sums of three < 2^49.
-                        let ne: [i64; 3] = core::array::from_fn(|r| {
-                            nm[r][0] as i64 * n[0] + nm[r][1] as i64 * n[1] + nm[r][2] as i64 * n[2]
-                        });
-                        match normalize_to_q30(ne) {
-                            Some(unit) => to_channels::<P>(shade(aff.point(&m), unit, back)),
-                            // Opposite normals: no midpoint normal, average the colours.
-                            None => core::array::from_fn(|k| {
-                                ((ca[k] as i64 + cb[k] as i64) >> 1) as i32
-                            }),
-                        }
-                    };
-                for tri in obj.mesh.triangles() {
-                    st.triangles += 1;
-                    let t = tri.map(|i| verts[i as usize]);
-                    let mut s = [t[0].s, t[1].s, t[2].s];
-                    match classify(&t, cull, &self.vp, rows.clone()) {
-                        Class::Skip(why) => st.skip(why),
-                        Class::Draw => {
-                            let back = Sp::TWO_SIDED && is_back([&s[0], &s[1], &s[2]]);
-                            if back {
-                                for (v, i) in s.iter_mut().zip(tri) {
-                                    v.c = backs[*i as usize].s.c;
-                                }
-                            }
-                            let m = core::array::from_fn(|k| {
-                                let (a, b) = (k, (k + 1) % 3);
-                                mid(tri[a] as usize, tri[b] as usize, s[a].c, s[b].c, back)
-                            });
-                            st.drawn += 1;
-                            st.pixels += draw_quadratic_div::<P, T, Z, D>(target, s, m, Sh::FILL);
-                        }
-                        Class::Clip if Sp::TWO_SIDED => {
-                            st.clipped += 1;
-                            st.fallback += 1;
-                            let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
-                                let (f, r) = (s[k].c, backs[tri[k] as usize].s.c);
-                                ClipVertex {
-                                    pos: prep.clip().transform(&pos[tri[k] as usize]),
-                                    c: [f[0], f[1], f[2], r[0], r[1], r[2]],
-                                }
-                            });
-                            self.clip_fan_sided(cv, cull, &mut st, |tri, _| {
-                                draw_triangle::<P, T, WithDivide<Gradient, D>, Z, Gouraud>(
-                                    target, tri,
-                                )
-                            });
-                        }
-                        Class::Clip => {
-                            st.clipped += 1;
-                            st.fallback += 1;
-                            let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                                pos: prep.clip().transform(&pos[tri[k] as usize]),
-                                c: s[k].c,
-                            });
-                            self.draw_clipped::<WithDivide<Gradient, D>, Z, Gouraud, T>(
-                                target, cv, cull, &mut st,
-                            );
-                        }
-                    }
-                }
-            }
-        }
-        Ok(st)
+        self.walk(rows, &mut QuadraticColours::<T, D, Z, Sh>::new(target))
     }
 
     /// The frame's size in pixels, `(width, height)`: what a target must match.
@@ -1089,220 +880,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         sampling: Option<Sampling>,
         persp: Option<Perspective>,
     ) -> Result<Stats, RenderError> {
-        // One Phong triangle with its clip-space w: (pixels covered, evaluations).
-        let draw =
-            |target: &mut T, v: [PhongVertex; 3], w: [i64; 3], light: &LightingSetup<Sp>| match (
-                sampling, persp,
-            ) {
-                (Some(sm), _) => draw_phong_sampled::<P, T, Z, _>(target, v, light, sm),
-                (None, Some(m)) => (
-                    draw_phong_perspective::<P, T, Z, D, _>(target, v, w, m, light),
-                    0,
-                ),
-                (None, None) => (draw_phong_div::<P, T, Z, F, D, _>(target, v, light), 0),
-            };
-        let view = self.scene.camera.view().ok_or(RenderError::BadView)?;
-        let mut st = Stats::default();
-        let cull = self.scene.cull_back;
         let rows = target.rows();
-        for (i, (obj, prep)) in self.prepared().enumerate() {
-            let mv = view.mul(&obj.placement.matrix());
-            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
-            let light = self.lighting(obj, &view);
-            // Two-sided lighting: back faces lit with the back material's setup and
-            // the interpolated normal negated (the vertex normals negated: Q2.30
-            // components within ±2³⁰, no overflow; the fill renormalises).
-            let back_light = if Sp::TWO_SIDED {
-                Some(self.back_lighting(obj, &view))
-            } else {
-                None
-            };
-            let facing = |back: bool| match (&back_light, back) {
-                (Some(b), true) => (b, -1),
-                _ => (&light, 1),
-            };
-            let verts = &self.cache[prep.offset..prep.offset + obj.mesh.positions().len()];
-            let (pos, nrm) = (obj.mesh.positions(), obj.mesh.normals());
-            // Eye-space unit normal and position of mesh vertex `i`.
-            let eye = |i: usize| -> ([i32; 3], [i32; 3]) {
-                (eye_normal(&aff, &nrm[i]), aff.point(&pos[i]))
-            };
-            for tri in obj.mesh.triangles() {
-                st.triangles += 1;
-                let t = tri.map(|i| verts[i as usize]);
-                match classify(&t, cull, &self.vp, rows.clone()) {
-                    Class::Skip(why) => st.skip(why),
-                    Class::Draw => {
-                        let back = Sp::TWO_SIDED && is_back([&t[0].s, &t[1].s, &t[2].s]);
-                        let (light, sign) = facing(back);
-                        let pv = core::array::from_fn(|k| {
-                            let (n, p) = eye(tri[k] as usize);
-                            let s = t[k].s;
-                            PhongVertex {
-                                x: s.x,
-                                y: s.y,
-                                z: s.z,
-                                n: if Sp::TWO_SIDED {
-                                    n.map(|c| sign * c)
-                                } else {
-                                    n
-                                },
-                                p,
-                            }
-                        });
-                        st.drawn += 1;
-                        let w = clip_w(persp, prep.clip(), pos, *tri);
-                        let (px, ev) = draw(target, pv, w, light);
-                        st.pixels += px;
-                        st.evaluations += ev;
-                    }
-                    Class::Clip => {
-                        st.clipped += 1;
-                        let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
-                            let (n, p) = eye(tri[k] as usize);
-                            ClipVertex {
-                                pos: prep.clip().transform(&pos[tri[k] as usize]),
-                                c: [n[0], n[1], n[2], p[0], p[1], p[2]],
-                            }
-                        });
-                        let poly = clip_triangle(cv, &self.vp);
-                        let mut pv = [PhongVertex::default(); crate::clip::MAX_POLY];
-                        let mut pw = [1i64; crate::clip::MAX_POLY];
-                        for ((o, ow), v) in pv
-                            .iter_mut()
-                            .zip(pw.iter_mut())
-                            .zip(poly.v[..poly.len].iter())
-                        {
-                            let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
-                                continue;
-                            };
-                            *ow = v.pos[3];
-                            let c = v.c;
-                            *o = PhongVertex {
-                                x,
-                                y,
-                                z,
-                                n: [c[0], c[1], c[2]],
-                                p: [c[3], c[4], c[5]],
-                            };
-                        }
-                        for k in 1..poly.len.saturating_sub(1) {
-                            let mut tri = [pv[0], pv[k], pv[k + 1]];
-                            let pts = tri.map(|v| (v.x, v.y));
-                            let area = crate::clip::signed_area(pts[0], pts[1], pts[2]);
-                            let front = is_front(pts[0], pts[1], pts[2]);
-                            if area == 0 || (cull && !front) {
-                                continue;
-                            }
-                            let (light, sign) = facing(Sp::TWO_SIDED && !front);
-                            if Sp::TWO_SIDED {
-                                for v in tri.iter_mut() {
-                                    v.n = v.n.map(|c| sign * c);
-                                }
-                            }
-                            st.drawn += 1;
-                            let (px, ev) = draw(target, tri, [pw[0], pw[k], pw[k + 1]], light);
-                            st.pixels += px;
-                            st.evaluations += ev;
-                        }
-                    }
-                }
-            }
-        }
-        Ok(st)
-    }
-
-    fn draw_clipped<S: SpanMethod, Z: DepthMode, Sh: Shading, T: Target<P>>(
-        &self,
-        target: &mut T,
-        t: [ClipVertex; 3],
-        cull: bool,
-        st: &mut Stats,
-    ) {
-        self.clip_fan(t, cull, st, |tri, _| {
-            draw_triangle::<P, T, S, Z, Sh>(target, tri)
-        });
-    }
-
-    /// Clips a triangle and hands each front-facing, non-degenerate triangle of the
-    /// resulting fan to `draw` with its vertices' clip-space w; counts them and the
-    /// pixels `draw` returns in `st`.
-    pub(super) fn clip_fan(
-        &self,
-        t: [ClipVertex; 3],
-        cull: bool,
-        st: &mut Stats,
-        draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
-    ) {
-        self.clip_fan_with(t, cull, st, |c, _| *c, draw);
-    }
-
-    /// [`Frame::clip_fan`] for two-sided lighting: each vertex carries its front
-    /// colour and then its back colour, and each triangle of the fan is drawn with
-    /// the colours of its facing (the same sign test as culling).
-    fn clip_fan_sided(
-        &self,
-        t: [ClipVertex<6>; 3],
-        cull: bool,
-        st: &mut Stats,
-        draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
-    ) {
-        let pick = |c: &[i32; 6], front: bool| {
-            if front {
-                [c[0], c[1], c[2]]
-            } else {
-                [c[3], c[4], c[5]]
-            }
-        };
-        self.clip_fan_with(t, cull, st, pick, draw);
-    }
-
-    /// [`Frame::clip_fan`] with `N` attributes a vertex, of which `pick` makes the
-    /// colour of a fan triangle's vertex given whether the triangle faces front.
-    #[inline(always)]
-    fn clip_fan_with<const N: usize>(
-        &self,
-        t: [ClipVertex<N>; 3],
-        cull: bool,
-        st: &mut Stats,
-        pick: impl Fn(&[i32; N], bool) -> [i32; 3],
-        mut draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
-    ) {
-        let poly = clip_triangle(t, &self.vp);
-        let mut sv = [ScreenVertex::default(); crate::clip::MAX_POLY];
-        let mut w = [0i64; crate::clip::MAX_POLY];
-        for ((o, ow), v) in sv
-            .iter_mut()
-            .zip(w.iter_mut())
-            .zip(poly.v[..poly.len].iter())
-        {
-            let Some((x, y, z)) = project_clamped(&self.vp, v.pos) else {
-                return;
-            };
-            *o = ScreenVertex { x, y, z, c: [0; 3] };
-            *ow = v.pos[3];
-        }
-        for i in 1..poly.len.saturating_sub(1) {
-            let mut tri = [sv[0], sv[i], sv[i + 1]];
-            let front = is_front(
-                (tri[0].x, tri[0].y),
-                (tri[1].x, tri[1].y),
-                (tri[2].x, tri[2].y),
-            );
-            let area = crate::clip::signed_area(
-                (tri[0].x, tri[0].y),
-                (tri[1].x, tri[1].y),
-                (tri[2].x, tri[2].y),
-            );
-            if area == 0 || (cull && !front) {
-                continue;
-            }
-            for (v, k) in tri.iter_mut().zip([0, i, i + 1]) {
-                v.c = pick(&poly.v[k].c, front);
-            }
-            st.drawn += 1;
-            st.pixels += draw(tri, [w[0], w[i], w[i + 1]]);
-        }
+        let mut fill = PerPixel::<T, D, Z, F>::new(target, sampling, persp);
+        self.walk(rows, &mut fill)
     }
 
     /// Draws with perspective-correct Gouraud colours (see [`crate::raster::perspective`]): the
@@ -1404,80 +984,17 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         if Sh::PER_PIXEL {
             return self.draw_phong::<D, Z, phong::Rows, T>(target, None, Some(mode));
         }
-        Ok(self.draw_perspective_with::<D, Z, T>(target, mode))
+        self.draw_perspective_with::<D, Z, T>(target, mode)
     }
 
+    /// The perspective-correct Gouraud path of [`Frame::draw_perspective_as`].
     fn draw_perspective_with<D: Divide, Z: DepthMode, T: Target<P>>(
         &self,
         target: &mut T,
         mode: Perspective,
-    ) -> Stats {
-        let mut st = Stats::default();
-        let cull = self.scene.cull_back;
+    ) -> Result<Stats, RenderError> {
         let rows = target.rows();
-        for (obj, prep) in self.prepared() {
-            let pos = obj.mesh.positions();
-            let (verts, backs) = self.sides(prep.offset, pos.len());
-            for tri in obj.mesh.triangles() {
-                st.triangles += 1;
-                let t = tri.map(|i| verts[i as usize]);
-                let mut s = [t[0].s, t[1].s, t[2].s];
-                match classify(&t, cull, &self.vp, rows.clone()) {
-                    Class::Skip(why) => st.skip(why),
-                    Class::Draw => {
-                        st.drawn += 1;
-                        // Two-sided lighting: a back face takes the back colours.
-                        if Sp::TWO_SIDED && is_back([&s[0], &s[1], &s[2]]) {
-                            for (v, i) in s.iter_mut().zip(tri) {
-                                v.c = backs[*i as usize].s.c;
-                            }
-                        }
-                        // Clip-space w, recomputed: the vertex cache keeps none.
-                        let w = tri.map(|i| prep.clip().transform(&pos[i as usize])[3]);
-                        st.pixels +=
-                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, s, w, mode);
-                    }
-                    Class::Clip if Sp::TWO_SIDED => {
-                        st.clipped += 1;
-                        let cv: [ClipVertex<6>; 3] = core::array::from_fn(|k| {
-                            let (f, r) = (s[k].c, backs[tri[k] as usize].s.c);
-                            ClipVertex {
-                                pos: prep.clip().transform(&pos[tri[k] as usize]),
-                                c: [f[0], f[1], f[2], r[0], r[1], r[2]],
-                            }
-                        });
-                        self.clip_fan_sided(cv, cull, &mut st, |tri, w| {
-                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, tri, w, mode)
-                        });
-                    }
-                    Class::Clip => {
-                        st.clipped += 1;
-                        let cv: [ClipVertex; 3] = core::array::from_fn(|k| ClipVertex {
-                            pos: prep.clip().transform(&pos[tri[k] as usize]),
-                            c: s[k].c,
-                        });
-                        self.clip_fan(cv, cull, &mut st, |tri, w| {
-                            draw_triangle_perspective::<P, T, Z, Gouraud, D>(target, tri, w, mode)
-                        });
-                    }
-                }
-            }
-        }
-        st
-    }
-}
-
-/// The clip-space w of the mesh triangle `tri` under `clip` when `persp` asks for
-/// perspective correction (the vertex cache keeps none); else unused, `[1; 3]`.
-pub(super) fn clip_w(
-    persp: Option<Perspective>,
-    clip: &VertexTransform,
-    pos: &[Vec3],
-    tri: [u16; 3],
-) -> [i64; 3] {
-    match persp {
-        Some(_) => tri.map(|i| clip.transform(&pos[i as usize])[3]),
-        None => [1; 3],
+        self.walk(rows, &mut PerspectiveColours::<T, D, Z>::new(target, mode))
     }
 }
 
