@@ -3,5 +3,8 @@
 fn main() {
     let stamp = std::path::Path::new("../baked/BAKED");
     println!("cargo:rerun-if-changed={}", stamp.display());
-    assert!(stamp.exists(), "boards/baked/ is not there: run `cargo xtask bake` first");
+    assert!(
+        stamp.exists(),
+        "boards/baked/ is not there: run `cargo xtask bake` first"
+    );
 }

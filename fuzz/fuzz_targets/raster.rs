@@ -32,7 +32,7 @@ use fixshade::divide::{Exact, ShiftAdd};
 use fixshade::raster::perspective::{
     draw_phong_perspective, draw_triangle_perspective, Perspective,
 };
-use fixshade::raster::phong::{draw_phong, EvenOdd as PhongEvenOdd, PhongVertex, Rows};
+use fixshade::raster::phong::{draw_phong, EvenOddPixels, PhongVertex, Rows};
 use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth};
 use fixshade::raster::{draw_triangle, ScreenVertex, GUARD};
@@ -234,10 +234,10 @@ fn phong(c: &Case) {
         let (mut rows, mut eo) = (new(), new());
         let n = if c.depth {
             draw_phong::<Rec, _, DepthTest, Rows, _>(&mut rows, pv, &NormalLight);
-            draw_phong::<Rec, _, DepthTest, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+            draw_phong::<Rec, _, DepthTest, EvenOddPixels, _>(&mut eo, pv, &NormalLight)
         } else {
             draw_phong::<Rec, _, NoDepth, Rows, _>(&mut rows, pv, &NormalLight);
-            draw_phong::<Rec, _, NoDepth, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+            draw_phong::<Rec, _, NoDepth, EvenOddPixels, _>(&mut eo, pv, &NormalLight)
         };
         assert!(
             rows.intact() && eo.intact(),

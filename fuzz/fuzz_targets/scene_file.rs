@@ -7,7 +7,7 @@
 #![no_main]
 
 use fixshade::effects::TwoSided;
-use fixshade::light::Specular;
+use fixshade::specular::Specular;
 use fixshade::render::{Frame, XfVertex};
 use fixshade::scene::Scene;
 use fixshade::target::{Rgb888, Strip};
@@ -56,7 +56,7 @@ fuzz_target!(|data: &[u8]| {
     if d.two_sided {
         draw::<TwoSided>(&scene, &d);
     } else {
-        draw::<fixshade::light::BlinnExact>(&scene, &d);
+        draw::<fixshade::specular::BlinnExact>(&scene, &d);
     }
 });
 

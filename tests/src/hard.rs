@@ -3,7 +3,7 @@
 //! outside the target (a [`Guarded`] target), and, as the case asks, exact coverage,
 //! watertightness, colour and depth within their bounds of the exact values.
 
-use fixshade::raster::phong::{draw_phong, EvenOdd as PhongEvenOdd, PhongVertex, PixelLight, Rows};
+use fixshade::raster::phong::{draw_phong, EvenOddPixels, PhongVertex, PixelLight, Rows};
 use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, NoDepth, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex, GUARD};
@@ -496,10 +496,10 @@ pub fn check_phong(c: &Case) -> Result<Figures, String> {
             let mut eo = rec(c, depth);
             let n = if depth {
                 draw_phong::<Rec, _, DepthTest, Rows, _>(&mut rows, pv, &NormalLight);
-                draw_phong::<Rec, _, DepthTest, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+                draw_phong::<Rec, _, DepthTest, EvenOddPixels, _>(&mut eo, pv, &NormalLight)
             } else {
                 draw_phong::<Rec, _, NoDepth, Rows, _>(&mut rows, pv, &NormalLight);
-                draw_phong::<Rec, _, NoDepth, PhongEvenOdd, _>(&mut eo, pv, &NormalLight)
+                draw_phong::<Rec, _, NoDepth, EvenOddPixels, _>(&mut eo, pv, &NormalLight)
             };
             intact(&rows, &what)?;
             intact(&eo, &format!("{what} even-odd"))?;

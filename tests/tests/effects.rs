@@ -7,8 +7,10 @@
 
 use fixshade::effects::NoSpecular;
 use fixshade::fixed::Q16_16;
-use fixshade::light::{Light, LightKind, LightingSetup, Material, Specular};
+use fixshade::light::{Light, LightKind, LightingSetup, Material};
+
 use fixshade::math::{normalize_to_q30, Mat4};
+use fixshade::specular::Specular;
 use fixshade_sim::image::compare::compare;
 use fixshade_sim::render;
 use fixshade_sim::scene::desc::ShadingName;
@@ -371,7 +373,7 @@ fn specular_bound_is_never_below_the_light_found_inside() {
             shininess: Q16_16::from_int(1 + (rng.next() % 200) as i32),
             ..Material::default()
         };
-        let with = LightingSetup::<fixshade::light::BlinnExact>::new(
+        let with = LightingSetup::<fixshade::specular::BlinnExact>::new(
             &[light],
             &Mat4::IDENTITY,
             &mat,

@@ -1,5 +1,5 @@
-//! The embedded-graphics adapter (`fixshade::eg::Model`) and the line-buffer
-//! interface (`fixshade::linebuf`) give the same bytes as the native framebuffer
+//! The embedded-graphics adapter (`fixshade::present::eg::Model`) and the line-buffer
+//! interface (`fixshade::present::linebuf`) give the same bytes as the native framebuffer
 //! render (`fixshade_sim::render::render`, a `Framebuffer` of the whole frame).
 //!
 //! * Every pixel format, several span methods and all three shadings, on the
@@ -20,8 +20,8 @@ use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
 use embedded_graphics_core::pixelcolor::{GrayColor, PixelColor, RgbColor};
 use embedded_graphics_core::primitives::Rectangle;
 use embedded_graphics_core::{Drawable, Pixel};
-use fixshade::eg::{CoveredPixel, EgFormat, Model};
-use fixshade::linebuf::{render_lines, LineBufferProvider};
+use fixshade::present::eg::{CoveredPixel, EgFormat, Model};
+use fixshade::present::linebuf::{render_lines, LineBufferProvider};
 use fixshade::raster::span::SpanMethod;
 use fixshade::render::{BandMemory, Frame, XfVertex};
 use fixshade::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888};

@@ -6,7 +6,7 @@ use fixshade::raster::quadratic::{draw_quadratic, Fill};
 use fixshade::raster::span::{DepthTest, Gradient};
 use fixshade::raster::{draw_triangle, ScreenVertex};
 use fixshade::render::{Frame, Stats, XfVertex};
-use fixshade::shade::{Gouraud, Quadratic, QuadraticRows, Shading};
+use fixshade::shade::{Gouraud, QuadraticSurface, QuadraticSurfaceRows, Shading};
 use fixshade::target::{Framebuffer, Rgb888, Strip};
 use fixshade_sim::image::compare::compare;
 use fixshade_sim::render;
@@ -68,8 +68,8 @@ fn figures_blocks_equal_rows_and_cover_like_gradient() {
     for fig in FIGURES {
         let mut ls = load::load_arg(fig).unwrap();
         ls.desc.format = FormatName::RGB888;
-        let (cb, db, sb) = draw_frame::<Quadratic>(&ls);
-        let (cr, dr, sr) = draw_frame::<QuadraticRows>(&ls);
+        let (cb, db, sb) = draw_frame::<QuadraticSurface>(&ls);
+        let (cr, dr, sr) = draw_frame::<QuadraticSurfaceRows>(&ls);
         let (_, dg, sg) = draw_frame::<Gouraud>(&ls);
         assert!(cb == cr, "{fig}: 2×2 blocks differ from rows");
         assert_eq!(db, dr, "{fig}");
@@ -273,7 +273,7 @@ fn clipped_triangles_fall_back_to_gouraud() {
         let mut depth = vec![0xFFFFu16; n];
         let mut fb = Framebuffer::<Rgb888>::new(&mut color, Some(&mut depth), W, H).unwrap();
         let st = frame
-            .draw_with::<Gradient, DepthTest, Quadratic, _>(&mut fb)
+            .draw_with::<Gradient, DepthTest, QuadraticSurface, _>(&mut fb)
             .unwrap();
         (color, st)
     };

@@ -3,10 +3,12 @@
 //! degenerate inputs.
 
 use fixshade::fixed::{Angle, Q16_16};
-use fixshade::light::{BlinnExact, Light, Material};
+use fixshade::light::{Light, Material};
+
 use fixshade::raycast::{Caster, Plane, RayPixels, RayScene, RayVertex, Sphere, TriBox};
 use fixshade::sampler::{fill_blocks, fill_row, PixelFn, Threshold};
 use fixshade::scene::{Camera, Projection, Scene};
+use fixshade::specular::BlinnExact;
 use fixshade::target::{PixelFormat, Rgb888};
 use fixshade_sim::image::compare::compare;
 use fixshade_sim::render;

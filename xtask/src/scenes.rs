@@ -10,9 +10,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use fixshade::effects::TwoSided;
-use fixshade::light::{BlinnExact, Specular};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::scene::Scene;
+use fixshade::specular::{BlinnExact, Specular};
 use fixshade::target::{PixelFormat, Rgb565Le, Strip};
 use fixshade_sim::render;
 use fixshade_sim::render::bake::chunks;

@@ -18,7 +18,7 @@ use core::fmt::Write as _;
 use semihosting::fs::File;
 use semihosting::io::Write as _;
 
-use crate::Counter;
+use crate::SysTickCounter;
 
 /// The baked catalogue.
 #[rustfmt::skip]
@@ -84,7 +84,7 @@ pub fn run(
     board: &str,
     color: &mut [[u8; 3]],
     depth: &mut [u16],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
     sink: &mut impl Sink,
     log: &mut impl core::fmt::Write,
 ) -> Result<(), &'static str> {
@@ -225,7 +225,7 @@ pub fn firmware(
     let result = cortex_m::Peripherals::take()
         .ok_or("peripherals taken twice")
         .and_then(|cp| {
-            let mut counter = Counter::start(cp.SYST, core_hz, icount_shift);
+            let mut counter = SysTickCounter::start(cp.SYST, core_hz, icount_shift);
             run(
                 board,
                 color,

@@ -5,11 +5,11 @@
 //! Instruction counts: QEMU runs the firmware with `-icount shift=10`, so every
 //! instruction advances the virtual clock by 2¹⁰ ns and SysTick, clocked from the
 //! core clock `F`, advances `F · 1024 / 10⁹` ticks per instruction (25.6 at 25 MHz
-//! on mps2-an386, 16.384 at 16 MHz on the nRF51). [`Counter`] counts SysTick's wraps
+//! on mps2-an386, 16.384 at 16 MHz on the nRF51). [`SysTickCounter`] counts SysTick's wraps
 //! in its exception handler and converts ticks to instructions. The handler's own
 //! few instructions per wrap (one wrap per 2²⁴ ticks: ≥ 600 000 instructions) are
 //! counted too, a bias below 0.01 %. Under `-icount` the counts do not depend on the
-//! host or the run (see [`Counter`]).
+//! host or the run (see [`SysTickCounter`]).
 #![no_std]
 #![deny(missing_docs, unsafe_code)]
 
@@ -25,17 +25,17 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::{SCB, SYST};
 use fixshade::divide::{Divide, Exact, ShiftAdd, ShiftAddRounded, Table};
-use fixshade::light::{BlinnExact, Specular};
 use fixshade::raster::perspective::Perspective;
 use fixshade::raster::span::{Classic, DepthMode, Gradient, SpanMethod, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats};
 use fixshade::shade::Shading;
+use fixshade::specular::{BlinnExact, Specular};
 use fixshade::target::{PixelFormat, Target};
 
 /// SysTick reload: the full 24 bits.
 const RELOAD: u32 = 0x00FF_FFFF;
 
-/// Ticks after a wrap in which [`Counter::ticks`] waits (about 256 instructions on
+/// Ticks after a wrap in which [`SysTickCounter::ticks`] waits (about 256 instructions on
 /// the nRF51, 160 on mps2): a read this close to the reload may precede the wrap's
 /// exception. A read that lands there waits out the rest of the window, which the
 /// measurement then includes (at most `GUARD` ticks, for one read in 4 096).
@@ -50,7 +50,7 @@ pub fn on_systick() {
     WRAPS.store(WRAPS.load(Ordering::Relaxed) + 1, Ordering::Relaxed);
 }
 
-/// A moment of a [`Counter`]: SysTick ticks since the start.
+/// A moment of a [`SysTickCounter`]: SysTick ticks since the start.
 #[derive(Copy, Clone, Debug)]
 pub struct Mark(u64);
 
@@ -76,7 +76,7 @@ pub struct Mark(u64);
 /// and 63, under 9 instructions a wrap. A span's count may move by about that much
 /// per wrap when what ran before it changes; `cargo xtask qemu` compares committed
 /// counts within that spread.
-pub struct Counter {
+pub struct SysTickCounter {
     syst: SYST,
     /// Core clock in Hz (SysTick's clock source) times 2^shift, QEMU's icount
     /// shift (one instruction = 2^shift ns).
@@ -85,24 +85,24 @@ pub struct Counter {
     last: u64,
 }
 
-impl Counter {
+impl SysTickCounter {
     /// Starts SysTick on the core clock `hz`, wrapping every 2²⁴ ticks with its
     /// exception enabled.
-    pub fn start(mut syst: SYST, hz: u32, shift: u32) -> Counter {
+    pub fn start(mut syst: SYST, hz: u32, shift: u32) -> SysTickCounter {
         syst.disable_counter();
         syst.set_clock_source(SystClkSource::Core);
         syst.set_reload(RELOAD);
         syst.clear_current();
         syst.enable_interrupt();
         syst.enable_counter();
-        Counter {
+        SysTickCounter {
             syst,
             per: (hz as u64) << shift,
             last: 0,
         }
     }
 
-    /// The start of a span, for [`Counter::since`].
+    /// The start of a span, for [`SysTickCounter::since`].
     pub fn begin(&mut self) -> Mark {
         self.read(false)
     }
@@ -200,10 +200,10 @@ pub fn known_loop(n: u32) {
     }
 }
 
-/// Calibrates [`Counter`]: instructions it measures for an empty span and for
+/// Calibrates [`SysTickCounter`]: instructions it measures for an empty span and for
 /// [`known_loop`] of `n` turns (long enough to hold wraps), logged as
 /// `CALIBRATE board empty loop expected`.
-pub fn calibrate(counter: &mut Counter, out: &mut impl core::fmt::Write, board: &str) {
+pub fn calibrate(counter: &mut SysTickCounter, out: &mut impl core::fmt::Write, board: &str) {
     let ((), empty) = counter.measure(|| ());
     // Ten or more wraps (a wrap per 655 360 instructions at 25 MHz).
     let n = 3_000_000;
@@ -219,7 +219,7 @@ pub fn calibrate(counter: &mut Counter, out: &mut impl core::fmt::Write, board: 
 /// Markers in QEMU's execution log for counting the instructions spent in compiler
 /// runtime helpers (`cargo xtask qemu`, the `helpers` column): the log holds every
 /// executed block, and these functions' addresses (from the ELF's symbols) split it.
-/// [`Counter::measure`] wraps what it measures in [`mark_on`] and [`mark_off`];
+/// [`SysTickCounter::measure`] wraps what it measures in [`mark_on`] and [`mark_off`];
 /// [`FrameLog::write`] calls [`mark_frame`], which closes the frame whose line it
 /// writes; [`mark_discard`] drops what was counted since the last frame (the
 /// calibration, the setup-cost passes). Each is out of line with a body of its own,

@@ -13,14 +13,14 @@ use core::hint::black_box;
 
 use fixshade::divide::{Divide, ShiftAdd, Table};
 use fixshade::fixed::Q16_16;
-use fixshade::light::{BlinnExact, Specular};
 use fixshade::raster::span::{DepthTest, Gradient, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats, XfVertex};
 use fixshade::scene::{Scene, ShadingMode};
 use fixshade::shade::Phong;
+use fixshade::specular::{BlinnExact, Specular};
 use fixshade::target::{PixelFormat, Target};
 
-use crate::{entry, Counter, DrawFn, Fixed};
+use crate::{entry, DrawFn, Fixed, SysTickCounter};
 
 /// Number of shading modes in [`shading_cases`].
 pub const SHADINGS: usize = 6;
@@ -91,7 +91,7 @@ pub type SpecularFn<T> = fn(
     u32,
     &mut [XfVertex],
     &mut T,
-    &mut Counter,
+    &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), RenderError>;
 
 fn specular_entry<Sp: Specular, P: PixelFormat, T: Target<P>>(
@@ -100,7 +100,7 @@ fn specular_entry<Sp: Specular, P: PixelFormat, T: Target<P>>(
     height: u32,
     cache: &mut [XfVertex],
     target: &mut T,
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), RenderError> {
     let (frame, prepare) =
         counter.measure(|| Frame::<P, BlinnExact>::prepare_with::<Sp>(scene, width, height, cache));
@@ -125,9 +125,9 @@ pub fn specular_cases<P: PixelFormat, T: Target<P>>() -> [(&'static str, Specula
 
 /// The instructions of `inputs.len()` calls of one model's `eval` at exponent `n`
 /// (`with`) and of the same loop without the call (`without`).
-pub type EvalFn = fn(u32, &[i32], &mut Counter) -> (u64, u64);
+pub type EvalFn = fn(u32, &[i32], &mut SysTickCounter) -> (u64, u64);
 
-fn eval_cost<Sp: Specular>(n: u32, inputs: &[i32], counter: &mut Counter) -> (u64, u64) {
+fn eval_cost<Sp: Specular>(n: u32, inputs: &[i32], counter: &mut SysTickCounter) -> (u64, u64) {
     // As the host's `fixshade specular` times it: parameters and inputs behind
     // `black_box`, the results summed.
     let p = black_box(Sp::prepare(Q16_16::from_int(n as i32)));

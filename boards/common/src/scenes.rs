@@ -19,7 +19,7 @@ pub fn shading_name(m: ShadingMode) -> &'static str {
     match m {
         ShadingMode::Flat => "flat",
         ShadingMode::Gouraud => "gouraud",
-        ShadingMode::Quadratic => "quadratic",
+        ShadingMode::QuadraticSurface => "quadratic",
         ShadingMode::Phong => "phong",
         ShadingMode::PhongEvenOdd => "phong-even-odd",
         ShadingMode::Adaptive => "adaptive",

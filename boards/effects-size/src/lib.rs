@@ -57,7 +57,11 @@ pub fn scene(spin: i32) -> Scene<'static> {
         ..Material::default()
     };
     let placement = Placement {
-        rotate: [Angle::from_degrees(spin), Angle::from_degrees(2 * spin), Angle::default()],
+        rotate: [
+            Angle::from_degrees(spin),
+            Angle::from_degrees(2 * spin),
+            Angle::default(),
+        ],
         ..Placement::default()
     };
     let _ = s.add_object(Object {

@@ -39,7 +39,7 @@ use fixshade::scene::ShadingMode;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
 use fixshade_boards_common::cases;
-use fixshade_boards_common::{mark_off, mark_on, Counter, DrawFn, Fixed, FrameLog};
+use fixshade_boards_common::{mark_off, mark_on, DrawFn, Fixed, FrameLog, SysTickCounter};
 use semihosting::io::Write as _;
 
 #[cfg(feature = "sphere")]
@@ -197,7 +197,7 @@ fn as_bytes(p: &[u16]) -> &[u8] {
 #[inline(never)]
 fn run() -> Result<(), &'static str> {
     let cp = cortex_m::Peripherals::take().ok_or("peripherals taken twice")?;
-    let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
+    let mut counter = SysTickCounter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
     fixshade_boards_common::calibrate(&mut counter, &mut Console, BOARD);
     // The only references to the buffers, taken once before any use.
     #[allow(unsafe_code)]
@@ -268,7 +268,7 @@ fn setup_cost(
     scene: &mut Scene<'static>,
     chunks: &[fig::Chunk],
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     use fixshade::clip::signed_area;
     use fixshade::raster::setup::setup;
@@ -277,7 +277,7 @@ fn setup_cost(
     for c in chunks {
         prepare(scene, c, cache, counter)?;
         let verts = &cache[..c.0.len()];
-        let pass = |call: bool, counter: &mut Counter| {
+        let pass = |call: bool, counter: &mut SysTickCounter| {
             let mut k = 0u32;
             let ((), cost) = counter.measure(|| {
                 for t in c.2 {
@@ -338,7 +338,7 @@ fn frame<'s>(
     strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     bg: u16,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<FrameLog, &'static str> {
     let (name, w, h) = FIGURE;
     let rows = strip.rows().len() as u32;
@@ -408,7 +408,7 @@ fn prepare(
     scene: &mut Scene<'static>,
     c: &fig::Chunk,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<u64, &'static str> {
     let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
@@ -426,11 +426,11 @@ fn prepare_and_draw<'s>(
     draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le, fig::Depth>>,
     strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), &'static str> {
     let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
-    // The counter read around the call rather than through `Counter::measure`, whose
+    // The counter read around the call rather than through `SysTickCounter::measure`, whose
     // `(Result<Frame>, u64)` cost this function 32 more bytes of a stack that is
     // short of room (measured with `-Z emit-stack-sizes`).
     let t0 = counter.begin();

@@ -50,7 +50,7 @@ use fixshade::{
 use fixshade_boards_common::cases;
 #[cfg(not(any(feature = "dividers", feature = "report")))]
 use fixshade_boards_common::SceneSettings;
-use fixshade_boards_common::{Counter, DrawFn, FrameLog};
+use fixshade_boards_common::{DrawFn, FrameLog, SysTickCounter};
 use semihosting::io::Write as _;
 #[cfg(feature = "dividers")]
 use {
@@ -260,7 +260,7 @@ fn file_name<'b>(buf: &'b mut [u8; 80], figure: &str, case: &str) -> &'b CStr {
 
 fn run() -> Result<(), &'static str> {
     let cp = cortex_m::Peripherals::take().ok_or("peripherals taken twice")?;
-    let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
+    let mut counter = SysTickCounter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
     // SAFETY: the only references to the buffers are these, taken once before any
     // use.
     #[allow(unsafe_code)]
@@ -342,7 +342,7 @@ fn draw_cases<D: DepthFormat>(
     bg: u16,
     fb: &mut Framebuffer<'_, Rgb565Le, D>,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
     let table = cases::<SceneSettings, Rgb565Le, Framebuffer<'_, Rgb565Le, D>>();
@@ -388,7 +388,7 @@ fn run_case<'f, D: DepthFormat>(
     bg: u16,
     fb: &mut Framebuffer<'f, Rgb565Le, D>,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     if !only(fig.name, case) {
         return Ok(());
@@ -448,7 +448,7 @@ fn draw_cases<D: DepthFormat>(
     bg: u16,
     fb: &mut Framebuffer<'_, Rgb565Le, D>,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     use fixshade::fixed::Q16_16;
     use fixshade::scene::ShadingMode;
@@ -502,7 +502,7 @@ fn draw_cases<D: DepthFormat>(
 /// board model n evaluations with without`: a loop of evaluations with and without
 /// the call.
 #[cfg(feature = "report")]
-fn specular_costs(counter: &mut Counter) {
+fn specular_costs(counter: &mut SysTickCounter) {
     use fixshade_boards_common::report::{eval_costs, eval_inputs};
     let mut inputs = [0i32; 1024];
     eval_inputs(&mut inputs);
@@ -556,7 +556,7 @@ fn banded(
     layout: &'static str,
     fb: &mut Framebuffer<'_, Rgb565Le>,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     let (w, h) = (fig.width, fig.height);
     // SAFETY: the only references to these buffers, taken here, one call at a time.
@@ -670,7 +670,7 @@ fn setup_cost(
     w: u32,
     h: u32,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     let frame =
         Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache[..]).map_err(|_| "prepare failed")?;
@@ -678,7 +678,7 @@ fn setup_cost(
     let mesh = &scene.objects[0].mesh;
     let n_vert = mesh.positions().len();
     let verts = &cache[..n_vert];
-    let pass = |with: bool, counter: &mut Counter| {
+    let pass = |with: bool, counter: &mut SysTickCounter| {
         let mut n = 0u32;
         let ((), cost) = counter.measure(|| {
             for t in mesh.triangles() {

@@ -147,7 +147,7 @@ impl Format for ShadingMode {
         match self {
             ShadingMode::Flat => write!(f, "Flat"),
             ShadingMode::Gouraud => write!(f, "Gouraud"),
-            ShadingMode::Quadratic => write!(f, "Quadratic"),
+            ShadingMode::QuadraticSurface => write!(f, "QuadraticSurface"),
             ShadingMode::Phong => write!(f, "Phong"),
             ShadingMode::PhongEvenOdd => write!(f, "PhongEvenOdd"),
             ShadingMode::Adaptive => write!(f, "Adaptive"),

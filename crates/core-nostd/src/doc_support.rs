@@ -4,9 +4,9 @@
 
 use crate::fixed::{Angle, Q16_16, Q2_14};
 use crate::geometry::{Mesh, MeshError};
+use crate::light::rgb;
 use crate::light::{Light, Material};
 use crate::math::Vec3;
-use crate::renderer::rgb;
 use crate::scene::{Camera, Object, Scene};
 
 /// Vertices of a triangle in the z = 0 plane, counter-clockwise seen from +z.

@@ -63,7 +63,7 @@
 use core::marker::PhantomData;
 
 use crate::fixed::Q16_16;
-pub use crate::light::Specular;
+pub use crate::specular::Specular;
 
 /// Lighting without a specular term: ambient and diffuse only. With it the vertex
 /// stage and per-pixel lighting compile without the half vector, the power and the
@@ -114,7 +114,7 @@ impl Specular for NoSpecular {
 ///
 /// ```
 /// use fixshade::effects::TwoSided;
-/// use fixshade::light::BlinnExact;
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::prelude::*;
 /// # let mut scene = fixshade::doc_support::scene();
 /// // Seen from behind the triangle is a back face: culling off, it is drawn.
@@ -141,7 +141,7 @@ impl Specular for NoSpecular {
 /// assert!(draw(true) < draw(false));
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
-pub struct TwoSided<Sp: Specular = crate::light::BlinnExact>(PhantomData<Sp>);
+pub struct TwoSided<Sp: Specular = crate::specular::BlinnExact>(PhantomData<Sp>);
 
 impl<Sp: Specular> Specular for TwoSided<Sp> {
     const ENABLED: bool = Sp::ENABLED;

@@ -21,7 +21,7 @@
 //! on the host and on every MCU. Overflow bounds are written next to the arithmetic
 //! that relies on them.
 //!
-//! Start with [`prelude`] and [`renderer::Renderer`] (the example below); the stage
+//! Start with [`prelude`] and [`present::Renderer`] (the example below); the stage
 //! modules hold the building blocks, each with its contract in its docs.
 //!
 //! Numeric conventions: screen coordinates Q12.4 (1/16 pixel) within a guard band of
@@ -43,19 +43,16 @@ pub mod divide;
 #[doc(hidden)]
 pub mod doc_support;
 pub mod effects;
-#[cfg(feature = "embedded-graphics")]
-pub mod eg;
 pub mod fixed;
 pub mod geometry;
 pub mod light;
-pub mod linebuf;
 pub mod math;
 pub mod prelude;
+pub mod present;
 pub mod raster;
 pub mod raycast;
 pub mod registry;
 pub mod render;
-pub mod renderer;
 pub mod sampler;
 pub mod scene;
 pub mod shade;

@@ -24,7 +24,8 @@
 //! ```
 
 use crate::fixed::{Q16_16, Q2_14};
-use crate::math::{dot_q30, mul_wide, normalize_to_q30, pow_q30, Mat4, Vec3, ONE_Q30};
+use crate::math::{dot_q30, mul_wide, normalize_to_q30, Mat4, Vec3, ONE_Q30};
+pub use crate::specular::{BlinnExact, Specular};
 
 /// An RGB colour, Q16.16 per channel, 0..=1 for inputs.
 ///
@@ -35,6 +36,21 @@ use crate::math::{dot_q30, mul_wide, normalize_to_q30, pow_q30, Mat4, Vec3, ONE_
 /// assert_eq!(orange[0].to_bits(), 1 << 16); // 255 is 1.0
 /// ```
 pub type Color = [Q16_16; 3];
+
+/// An RGB colour from 8-bit channels (`v / 255` in Q16.16, rounded to nearest).
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::light::rgb;
+/// assert_eq!(rgb(255, 0, 51), [Q16_16::ONE, Q16_16::ZERO, Q16_16::from_ratio(1, 5)]);
+/// ```
+pub const fn rgb(r: u8, g: u8, b: u8) -> Color {
+    [
+        Q16_16::from_ratio(r as i32, 255),
+        Q16_16::from_ratio(g as i32, 255),
+        Q16_16::from_ratio(b as i32, 255),
+    ]
+}
 
 /// The kind of a light; positions and directions are given in world space and
 /// transformed to eye space by the view matrix once per frame.
@@ -148,65 +164,6 @@ impl Default for Material {
     }
 }
 
-/// The specular seam: how `cⁿ` (c = N·H) is evaluated.
-///
-/// ```
-/// use fixshade::fixed::Q16_16;
-/// use fixshade::light::{BlinnExact, Specular};
-/// use fixshade::specular::Schlick;
-/// let c = 0x3800_0000; // N·H = 0.875 in Q2.30
-/// let n = Q16_16::from_int(8);
-/// let exact = BlinnExact::eval(&BlinnExact::prepare(n), c); // 0.875⁸ ≈ 0.344
-/// let approx = <Schlick>::eval(&<Schlick>::prepare(n), c); // c / (n − n·c + c) ≈ 0.467
-/// assert!((exact - 368947264).abs() < 1 << 8);
-/// assert!(approx > exact);
-/// ```
-pub trait Specular {
-    /// False for a model that has no specular term at all
-    /// ([`crate::effects::NoSpecular`]): lighting then compiles without the half
-    /// vector, the power and the specular sums.
-    const ENABLED: bool = true;
-    /// True for two-sided lighting ([`crate::effects::TwoSided`]): the vertex stage
-    /// also lights every vertex with its negated normal and the back material, and
-    /// back faces draw with those colours. False for every plain model.
-    const TWO_SIDED: bool = false;
-    /// Per-material data derived from n once per frame (a table lookup, a reciprocal).
-    type Params: Copy;
-    /// Prepares the parameters for exponent `n` (already clamped to 1..=1000).
-    fn prepare(n: Q16_16) -> Self::Params;
-    /// `cⁿ` or its approximation for `c` in Q2.30 (0 < c ≤ 1), result Q2.30 in [0, 1].
-    fn eval(p: &Self::Params, c: i32) -> i32;
-    /// The value lighting uses, in Q.30 as `u64`: [`Specular::eval`] for every model
-    /// whose result stays in [0, 1]; a model that may exceed 1 (the energy-conserving
-    /// form peaks near 41) overrides it with its unsaturated value, at most 2³⁶.
-    #[inline]
-    fn eval_wide(p: &Self::Params, c: i32) -> u64 {
-        Self::eval(p, c).max(0) as u64
-    }
-}
-
-/// Exact `cⁿ` (see [`pow_q30`]).
-///
-/// ```
-/// use fixshade::fixed::Q16_16;
-/// use fixshade::light::{BlinnExact, Specular};
-/// let p = BlinnExact::prepare(Q16_16::from_int(2));
-/// assert_eq!(BlinnExact::eval(&p, 1 << 29), 1 << 28); // 0.5² = 0.25
-/// ```
-#[derive(Copy, Clone, Debug, Default)]
-pub struct BlinnExact;
-
-impl Specular for BlinnExact {
-    type Params = Q16_16;
-    fn prepare(n: Q16_16) -> Q16_16 {
-        n
-    }
-    #[inline]
-    fn eval(n: &Q16_16, c: i32) -> i32 {
-        pow_q30(c, *n)
-    }
-}
-
 /// A light transformed to eye space with the material's products folded in.
 #[derive(Copy, Clone, Debug)]
 enum EyeKind {
@@ -241,7 +198,9 @@ pub const MAX_LIGHTS: usize = 8;
 ///
 /// ```
 /// use fixshade::fixed::Q16_16;
-/// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+/// use fixshade::light::{Light, LightingSetup, Material};
+
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::math::{Mat4, ONE_Q30};
 /// let white = [Q16_16::ONE; 3];
 /// let light = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white);
@@ -350,7 +309,9 @@ impl<S: Specular> LightingSetup<S> {
     ///
     /// ```
     /// use fixshade::fixed::Q16_16;
-    /// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+    /// use fixshade::light::{Light, LightingSetup, Material};
+
+    /// use fixshade::specular::BlinnExact;
     /// use fixshade::math::Mat4;
     /// let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], [Q16_16::ONE; 3], [Q16_16::ONE; 3]);
     /// let at = |local| LightingSetup::<BlinnExact>::new(&[sun], &Mat4::IDENTITY, &Material::default(), [Q16_16::ZERO; 3], local);
@@ -631,7 +592,9 @@ enum ObjectKind {
 ///
 /// ```
 /// use fixshade::fixed::{Q16_16, Q2_14};
-/// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+/// use fixshade::light::{Light, LightingSetup, Material};
+
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::math::Mat4;
 /// let white = [Q16_16::ONE; 3];
 /// let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white);

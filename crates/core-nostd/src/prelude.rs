@@ -14,18 +14,21 @@
 
 pub use crate::fixed::{Angle, Q16_16, Q2_14};
 pub use crate::geometry::{Mesh, MeshError};
-pub use crate::light::{BlinnExact, Color, Light, LightKind, Material, Specular};
-pub use crate::linebuf::{render_lines, LineBufferProvider};
+pub use crate::light::{Color, Light, LightKind, Material};
+
+pub use crate::light::rgb;
+pub use crate::present::linebuf::{render_lines, LineBufferProvider};
+pub use crate::present::{DrawError, Renderer};
 pub use crate::raster::parallel::{Counter, EvenOdd, KWay, Segment};
 pub use crate::raster::sierpinski::{Sierpinski, SierpinskiExact};
 pub use crate::raster::span::{Classic, DepthTest, Gradient, NoDepth, SpanMethod};
 pub use crate::render::{Frame, RenderError, Stats, XfVertex};
-pub use crate::renderer::{rgb, DrawError, Renderer};
 pub use crate::scene::{Camera, CapacityError, Object, Placement, Projection, Scene, ShadingMode};
 pub use crate::shade::{Flat, Gouraud, Shading};
+pub use crate::specular::{BlinnExact, Specular};
 pub use crate::target::{
     Framebuffer, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip, Target, TargetError,
 };
 
 #[cfg(feature = "embedded-graphics")]
-pub use crate::eg::{CoveredPixel, EgFormat, Model};
+pub use crate::present::eg::{CoveredPixel, EgFormat, Model};

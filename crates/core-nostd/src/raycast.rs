@@ -41,10 +41,12 @@
 
 use crate::fixed::Q16_16;
 use crate::geometry::Viewport;
-use crate::light::{Light, LightKind, LightingSetup, Material, Specular};
+use crate::light::{Light, LightKind, LightingSetup, Material};
+
 use crate::math::{isqrt_u128, normalize_to_q30, Affine3, ClipMatrix, Vec3, ONE_Q30};
 use crate::sampler::PixelFn;
 use crate::scene::{Projection, Scene, MAX_OBJECTS};
+use crate::specular::Specular;
 use crate::target::PixelFormat;
 
 /// Most analytic spheres in a [`RayScene`].
@@ -125,7 +127,7 @@ pub struct RayScene<'s, 'a> {
 /// Why a ray caster could not be prepared.
 ///
 /// ```
-/// use fixshade::light::BlinnExact;
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::raycast::{Caster, RayError, RayScene};
 /// # let scene = fixshade::doc_support::scene();
 /// let rs = RayScene { scene: &scene, spheres: &[], planes: &[], shadows: false };
@@ -310,7 +312,9 @@ struct SurfaceLight<S: Specular> {
 ///
 /// ```
 /// use fixshade::fixed::Q16_16;
-/// use fixshade::light::{BlinnExact, Material};
+/// use fixshade::light::{Material};
+
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::raycast::{Caster, RayScene, RayVertex, Sphere, TriBox};
 /// # let scene = fixshade::doc_support::scene();
 /// // A unit sphere in front of the scene's triangle, casting a shadow onto it.
@@ -952,7 +956,7 @@ fn blocks(o: [i64; 3], d: [i32; 3], v: &[[i64; 3]; 3], t_max: i64) -> bool {
 /// `P`'s channel integers, `background` (channel integers) where nothing is hit.
 ///
 /// ```
-/// use fixshade::light::BlinnExact;
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::raycast::{Caster, RayPixels, RayScene, RayVertex, TriBox};
 /// use fixshade::sampler::{fill_row, Threshold, SEED_K_Q8};
 /// use fixshade::target::Rgb888;

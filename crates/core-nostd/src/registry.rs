@@ -237,7 +237,7 @@ macro_rules! for_each_specular {
 macro_rules! __specular_list {
     ($($cb:ident)::+ [$($a:tt)*] $D:ty) => {
         $($cb)::+! { [$($a)*]
-            ($crate::specular::NAMES[0], $crate::light::BlinnExact, "c^n"),
+            ($crate::specular::NAMES[0], $crate::specular::BlinnExact, "c^n"),
             (<$crate::specular::Schlick>::NAME, $crate::specular::Schlick<$D>,
              "c / (n - n·c + c)"),
             (<$crate::specular::SchlickModified>::NAME, $crate::specular::SchlickModified<$D>,
@@ -293,8 +293,8 @@ macro_rules! for_each_shading {
              $crate::scene::ShadingMode::Flat, $crate::shade::Flat),
             (<$crate::shade::Gouraud as $crate::shade::Shading>::NAME,
              $crate::scene::ShadingMode::Gouraud, $crate::shade::Gouraud),
-            (<$crate::shade::Quadratic as $crate::shade::Shading>::NAME,
-             $crate::scene::ShadingMode::Quadratic, $crate::shade::Quadratic),
+            (<$crate::shade::QuadraticSurface as $crate::shade::Shading>::NAME,
+             $crate::scene::ShadingMode::QuadraticSurface, $crate::shade::QuadraticSurface),
             (<$crate::shade::Phong as $crate::shade::Shading>::NAME,
              $crate::scene::ShadingMode::Phong, $crate::shade::Phong),
             (<$crate::shade::PhongEvenOdd as $crate::shade::Shading>::NAME,

@@ -54,6 +54,7 @@
 
 mod adaptive;
 pub mod bands;
+mod draw;
 mod fills;
 mod frame;
 mod walk;

@@ -217,8 +217,8 @@ pub enum ShadingMode {
     #[default]
     Gouraud,
     /// Quadratic intensity surface through the vertex and edge-midpoint colours
-    /// (seed 003; [`crate::shade::Quadratic`]).
-    Quadratic,
+    /// (seed 003; [`crate::shade::QuadraticSurface`]).
+    QuadraticSurface,
     /// Per-pixel lighting from interpolated normals ([`crate::shade::Phong`]).
     Phong,
     /// Phong with the even/odd fill ([`crate::shade::PhongEvenOdd`], same pixels).

@@ -2,9 +2,9 @@
 //!
 //! [`Flat`] gives the whole triangle the colour of its last (provoking) vertex, as
 //! OpenGL does; [`Gouraud`] interpolates the vertex colours linearly in screen space.
-//! [`Quadratic`] fits a quadratic intensity surface through the vertex colours and
+//! [`QuadraticSurface`] fits a quadratic intensity surface through the vertex colours and
 //! the colours lit at the edge midpoints (seed 003), filled in 2×2 blocks;
-//! [`QuadraticRows`] is the same surface filled row by row (bit-identical).
+//! [`QuadraticSurfaceRows`] is the same surface filled row by row (bit-identical).
 //! [`Phong`] and [`PhongEvenOdd`] light every pixel from interpolated normals.
 //! The choice is a type, so the span loop of a flat triangle carries no colour
 //! interpolation at all.
@@ -56,7 +56,7 @@ impl Shading for Gouraud {
 /// ```
 /// use fixshade::prelude::*;
 /// use fixshade::raster::span::DepthTest;
-/// use fixshade::shade::{Quadratic, QuadraticRows};
+/// use fixshade::shade::{QuadraticSurface, QuadraticSurfaceRows};
 /// # let scene = fixshade::doc_support::scene();
 /// let mut cache = [XfVertex::default(); 3];
 /// let frame = Frame::prepare(&scene, 24, 24, &mut cache).unwrap();
@@ -64,9 +64,9 @@ impl Shading for Gouraud {
 ///     let (mut px, mut z) = ([0u8; 24 * 24], [0xFFFFu16; 24 * 24]);
 ///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 24, 24).unwrap();
 ///     if first {
-///         frame.draw_with::<Gradient, DepthTest, Quadratic, _>(&mut fb).unwrap();
+///         frame.draw_with::<Gradient, DepthTest, QuadraticSurface, _>(&mut fb).unwrap();
 ///     } else {
-///         frame.draw_with::<Gradient, DepthTest, QuadraticRows, _>(&mut fb).unwrap();
+///         frame.draw_with::<Gradient, DepthTest, QuadraticSurfaceRows, _>(&mut fb).unwrap();
 ///     }
 ///     px
 /// };
@@ -74,14 +74,14 @@ impl Shading for Gouraud {
 /// assert_eq!(draw(true), draw(false));
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
-pub struct Quadratic;
+pub struct QuadraticSurface;
 
-/// The quadratic intensity surface filled row by row (same pixels as [`Quadratic`]).
+/// The quadratic intensity surface filled row by row (same pixels as [`QuadraticSurface`]).
 ///
 /// ```
 /// use fixshade::prelude::*;
 /// use fixshade::raster::span::DepthTest;
-/// use fixshade::shade::{QuadraticRows, Quadratic};
+/// use fixshade::shade::{QuadraticSurfaceRows, QuadraticSurface};
 /// # let scene = fixshade::doc_support::scene();
 /// let mut cache = [XfVertex::default(); 3];
 /// let frame = Frame::prepare(&scene, 24, 24, &mut cache).unwrap();
@@ -89,9 +89,9 @@ pub struct Quadratic;
 ///     let (mut px, mut z) = ([0u8; 24 * 24], [0xFFFFu16; 24 * 24]);
 ///     let mut fb = Framebuffer::<Gray8>::new(&mut px, Some(&mut z), 24, 24).unwrap();
 ///     if first {
-///         frame.draw_with::<Gradient, DepthTest, QuadraticRows, _>(&mut fb).unwrap();
+///         frame.draw_with::<Gradient, DepthTest, QuadraticSurfaceRows, _>(&mut fb).unwrap();
 ///     } else {
-///         frame.draw_with::<Gradient, DepthTest, Quadratic, _>(&mut fb).unwrap();
+///         frame.draw_with::<Gradient, DepthTest, QuadraticSurface, _>(&mut fb).unwrap();
 ///     }
 ///     px
 /// };
@@ -99,16 +99,16 @@ pub struct Quadratic;
 /// assert_eq!(draw(true), draw(false));
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
-pub struct QuadraticRows;
+pub struct QuadraticSurfaceRows;
 
-impl Shading for Quadratic {
+impl Shading for QuadraticSurface {
     const NAME: &'static str = "quadratic";
     const INTERPOLATE: bool = true;
     const QUADRATIC: bool = true;
     const FILL: crate::raster::quadratic::Fill = crate::raster::quadratic::Fill::Blocks;
 }
 
-impl Shading for QuadraticRows {
+impl Shading for QuadraticSurfaceRows {
     const NAME: &'static str = "quadratic-rows";
     const INTERPOLATE: bool = true;
     const QUADRATIC: bool = true;

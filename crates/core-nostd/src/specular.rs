@@ -74,9 +74,67 @@
 
 use crate::divide::{wide_recip, Divide, Exact};
 use crate::fixed::Q16_16;
-pub use crate::light::{BlinnExact, Specular};
-use crate::math::isqrt_u128;
+use crate::math::{isqrt_u128, pow_q30};
 use core::marker::PhantomData;
+
+/// The specular seam: how `cⁿ` (c = N·H) is evaluated.
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::specular::{BlinnExact, Specular};
+/// use fixshade::specular::Schlick;
+/// let c = 0x3800_0000; // N·H = 0.875 in Q2.30
+/// let n = Q16_16::from_int(8);
+/// let exact = BlinnExact::eval(&BlinnExact::prepare(n), c); // 0.875⁸ ≈ 0.344
+/// let approx = <Schlick>::eval(&<Schlick>::prepare(n), c); // c / (n − n·c + c) ≈ 0.467
+/// assert!((exact - 368947264).abs() < 1 << 8);
+/// assert!(approx > exact);
+/// ```
+pub trait Specular {
+    /// False for a model that has no specular term at all
+    /// ([`crate::effects::NoSpecular`]): lighting then compiles without the half
+    /// vector, the power and the specular sums.
+    const ENABLED: bool = true;
+    /// True for two-sided lighting ([`crate::effects::TwoSided`]): the vertex stage
+    /// also lights every vertex with its negated normal and the back material, and
+    /// back faces draw with those colours. False for every plain model.
+    const TWO_SIDED: bool = false;
+    /// Per-material data derived from n once per frame (a table lookup, a reciprocal).
+    type Params: Copy;
+    /// Prepares the parameters for exponent `n` (already clamped to 1..=1000).
+    fn prepare(n: Q16_16) -> Self::Params;
+    /// `cⁿ` or its approximation for `c` in Q2.30 (0 < c ≤ 1), result Q2.30 in [0, 1].
+    fn eval(p: &Self::Params, c: i32) -> i32;
+    /// The value lighting uses, in Q.30 as `u64`: [`Specular::eval`] for every model
+    /// whose result stays in [0, 1]; a model that may exceed 1 (the energy-conserving
+    /// form peaks near 41) overrides it with its unsaturated value, at most 2³⁶.
+    #[inline]
+    fn eval_wide(p: &Self::Params, c: i32) -> u64 {
+        Self::eval(p, c).max(0) as u64
+    }
+}
+
+/// Exact `cⁿ` (see [`crate::math::pow_q30`]).
+///
+/// ```
+/// use fixshade::fixed::Q16_16;
+/// use fixshade::specular::{BlinnExact, Specular};
+/// let p = BlinnExact::prepare(Q16_16::from_int(2));
+/// assert_eq!(BlinnExact::eval(&p, 1 << 29), 1 << 28); // 0.5² = 0.25
+/// ```
+#[derive(Copy, Clone, Debug, Default)]
+pub struct BlinnExact;
+
+impl Specular for BlinnExact {
+    type Params = Q16_16;
+    fn prepare(n: Q16_16) -> Q16_16 {
+        n
+    }
+    #[inline]
+    fn eval(n: &Q16_16, c: i32) -> i32 {
+        pow_q30(c, *n)
+    }
+}
 
 /// The scene-file and CLI names of the six models, in the order of the seam table
 /// in DESIGN.md: `exact` ([`BlinnExact`]), then the `NAME` of [`Schlick`],

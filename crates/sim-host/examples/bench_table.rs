@@ -38,8 +38,8 @@
 use std::path::Path;
 use std::time::Instant;
 
-use fixshade::eg::CoveredPixel;
 use fixshade::fixed::Angle;
+use fixshade::present::eg::CoveredPixel;
 use fixshade::target::Strip;
 use fixshade_sim::render::dispatch::DepthStrip;
 use fixshade_sim::render::{host::HostSpecular, Pipeline};

@@ -30,11 +30,13 @@ use std::time::Instant;
 
 use fixshade::effects::NoSpecular;
 use fixshade::fixed::Q16_16;
-use fixshade::light::{BlinnExact, LightKind, LightingSetup};
+use fixshade::light::{LightKind, LightingSetup};
+
 use fixshade::math::{dot_q30, normalize_to_q30, Affine3};
 use fixshade::raster::span::{Gradient, NoDepth};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::shade::Gouraud;
+use fixshade::specular::BlinnExact;
 use fixshade::target::{Framebuffer, Rgb565Le};
 use fixshade_sim::scene::convert::core_scene;
 use fixshade_sim::scene::load;

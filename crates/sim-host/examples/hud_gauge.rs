@@ -24,7 +24,7 @@ use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::{PrimitiveStyle, Rectangle, RoundedRectangle};
 use embedded_graphics::text::Text;
 use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay};
-use fixshade::eg::{CoveredPixel, Model};
+use fixshade::present::eg::{CoveredPixel, Model};
 // Both preludes export an `Angle`: name fixshade's explicitly.
 use fixshade::fixed::Angle;
 use fixshade::prelude::*;

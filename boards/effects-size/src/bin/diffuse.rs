@@ -3,10 +3,10 @@
 #![no_main]
 
 use fixshade::effects::*;
-use fixshade::light::BlinnExact;
 use fixshade::raster::span::{DepthTest, Gradient, NoDepth};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::shade::{Gouraud, Phong};
+use fixshade::specular::BlinnExact;
 use fixshade::target::{Framebuffer, Rgb565Le};
 use fixshade_effects_size::{scene, SIZE};
 
@@ -25,8 +25,12 @@ pub extern "C" fn _start() -> ! {
         let mut cache = [XfVertex::default(); 4];
         depth.fill(0xFFFF);
         if let Ok(mut fb) = Framebuffer::<Rgb565Le>::new(&mut color, None, SIZE, SIZE) {
-            if let Ok(frame) = Frame::<Rgb565Le>::prepare_with::<NoSpecular>(&s, SIZE, SIZE, &mut cache) {
-                let _ = core::hint::black_box(frame.draw_with::<Gradient, NoDepth, Gouraud, _>(&mut fb));
+            if let Ok(frame) =
+                Frame::<Rgb565Le>::prepare_with::<NoSpecular>(&s, SIZE, SIZE, &mut cache)
+            {
+                let _ = core::hint::black_box(
+                    frame.draw_with::<Gradient, NoDepth, Gouraud, _>(&mut fb),
+                );
             }
         }
         core::hint::black_box(&color);

@@ -3,10 +3,10 @@
 #![no_main]
 
 use fixshade::effects::*;
-use fixshade::light::BlinnExact;
 use fixshade::raster::span::{DepthTest, Gradient, NoDepth};
 use fixshade::render::{Frame, XfVertex};
 use fixshade::shade::{Gouraud, Phong};
+use fixshade::specular::BlinnExact;
 use fixshade::target::{Framebuffer, Rgb565Le};
 use fixshade_effects_size::{scene, SIZE};
 
@@ -24,9 +24,15 @@ pub extern "C" fn _start() -> ! {
         let s = scene(core::hint::black_box(spin));
         let mut cache = [XfVertex::default(); 4];
         depth.fill(0xFFFF);
-        if let Ok(mut fb) = Framebuffer::<Rgb565Le>::new(&mut color, Some(&mut depth[..]), SIZE, SIZE) {
-            if let Ok(frame) = Frame::<Rgb565Le>::prepare_with::<BlinnExact>(&s, SIZE, SIZE, &mut cache) {
-                let _ = core::hint::black_box(frame.draw_with::<Gradient, DepthTest, Phong, _>(&mut fb));
+        if let Ok(mut fb) =
+            Framebuffer::<Rgb565Le>::new(&mut color, Some(&mut depth[..]), SIZE, SIZE)
+        {
+            if let Ok(frame) =
+                Frame::<Rgb565Le>::prepare_with::<BlinnExact>(&s, SIZE, SIZE, &mut cache)
+            {
+                let _ = core::hint::black_box(
+                    frame.draw_with::<Gradient, DepthTest, Phong, _>(&mut fb),
+                );
             }
         }
         core::hint::black_box(&color);

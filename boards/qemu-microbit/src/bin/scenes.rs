@@ -31,7 +31,7 @@ use fixshade::shade::Flat;
 use fixshade::shade::Gouraud;
 use fixshade::target::{PixelFormat, Rgb565Le, Strip, Target};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
-use fixshade_boards_common::{Counter, DrawFn, Fixed};
+use fixshade_boards_common::{DrawFn, Fixed, SysTickCounter};
 use semihosting::io::Write as _;
 
 /// The baked cases, chunked.
@@ -174,7 +174,7 @@ fn init_scene(
 
 fn run() -> Result<(), &'static str> {
     let cp = cortex_m::Peripherals::take().ok_or("peripherals taken twice")?;
-    let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
+    let mut counter = SysTickCounter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
     // SAFETY: the only references to the statics, taken once before any use.
     #[allow(unsafe_code)]
     let (color, depth, cache, slot, objects) = unsafe {
@@ -249,7 +249,7 @@ fn frame<'s>(
     strip: &mut Strip<'s, Rgb565Le>,
     bg: u16,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
     (shading, span): (&str, &str),
 ) -> Result<SceneLog, &'static str> {
     let (w, h) = (case.width, case.height);
@@ -301,7 +301,7 @@ fn prepare_and_draw<'s>(
     draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le>>,
     strip: &mut Strip<'s, Rgb565Le>,
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), &'static str> {
     let t0 = counter.begin();
     let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);

@@ -10,7 +10,7 @@
 //! the same way with frames lit two-sided (`fixshade::effects::TwoSided`), except in
 //! adaptive shading, which does not support it. Each case is drawn once more in
 //! flat and Gouraud shading with `gradient` in bands of 1, 2, 16 and 240 rows from
-//! one binning (`fixshade::linebuf::render_lines`, each band into its rows of the
+//! one binning (`fixshade::present::linebuf::render_lines`, each band into its rows of the
 //! framebuffer; span names `gradient.bands-N`), which must give the whole frame's
 //! bytes. Frames go to the host files
 //! `<case>-<shading>-<span>.rgb565` (see `fixshade_boards_common::scenes`);
@@ -22,17 +22,17 @@
 use cortex_m_rt::{entry, exception};
 use fixshade::divide::Exact;
 use fixshade::effects::TwoSided;
-use fixshade::light::{BlinnExact, Specular};
-use fixshade::linebuf::{render_lines, LineBufferProvider};
+use fixshade::present::linebuf::{render_lines, LineBufferProvider};
 use fixshade::raster::perspective::Perspective;
 use fixshade::raster::setup::Record;
 use fixshade::raster::span::Gradient;
 use fixshade::raster::Walk;
 use fixshade::render::{BandMemory, Frame, XfVertex};
 use fixshade::scene::{Projection, Scene, ShadingMode};
+use fixshade::specular::{BlinnExact, Specular};
 use fixshade::target::{DepthFormat, Framebuffer, PixelFormat, Rgb565Le};
 use fixshade_boards_common::scenes::{self, as_bytes, file_name, shading_name, SceneLog};
-use fixshade_boards_common::{cases_lit, Counter, SceneSettings};
+use fixshade_boards_common::{cases_lit, SceneSettings, SysTickCounter};
 use semihosting::io::Write as _;
 
 /// The baked cases.
@@ -57,7 +57,7 @@ const VERTICES: usize = 3072;
 const SHADINGS: [ShadingMode; 6] = [
     ShadingMode::Flat,
     ShadingMode::Gouraud,
-    ShadingMode::Quadratic,
+    ShadingMode::QuadraticSurface,
     ShadingMode::Phong,
     ShadingMode::PhongEvenOdd,
     ShadingMode::Adaptive,
@@ -97,7 +97,7 @@ fn SysTick() {
 
 fn run() -> Result<(), &'static str> {
     let cp = cortex_m::Peripherals::take().ok_or("peripherals taken twice")?;
-    let mut counter = Counter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
+    let mut counter = SysTickCounter::start(cp.SYST, CORE_HZ, ICOUNT_SHIFT);
     // SAFETY: the only references to the buffers, taken once before any use.
     #[allow(unsafe_code)]
     let (color, depth, depth32, cache) = unsafe {
@@ -147,7 +147,7 @@ fn draw_case<Sp: Specular, D: DepthFormat>(
     color: &mut [u16],
     depth: &mut [D],
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     let (w, h) = (case.width, case.height);
     let n = (w * h) as usize;
@@ -261,7 +261,7 @@ fn draw_bands<Sp: Specular, D: DepthFormat>(
     color: &mut [u16],
     depth: &mut [D],
     cache: &mut [XfVertex],
-    counter: &mut Counter,
+    counter: &mut SysTickCounter,
 ) -> Result<(), &'static str> {
     use core::fmt::Write as _;
     // SAFETY: the only references to these buffers, taken here, one call at a time.

@@ -56,7 +56,9 @@ use crate::target::{to_channels, DepthFormat, PixelFormat, Target};
 /// (Q16.16 per channel, 0..=1). [`crate::light::LightingSetup`] implements it.
 ///
 /// ```
-/// use fixshade::light::{BlinnExact, Light, LightingSetup, Material};
+/// use fixshade::light::{Light, LightingSetup, Material};
+
+/// use fixshade::specular::BlinnExact;
 /// use fixshade::math::{Mat4, ONE_Q30};
 /// use fixshade::raster::phong::PixelLight;
 /// use fixshade::fixed::Q16_16;
@@ -98,9 +100,9 @@ pub struct PhongVertex {
 /// How the spans of a Phong triangle are filled.
 ///
 /// ```
-/// use fixshade::raster::phong::{EvenOdd, PhongFill, Rows};
+/// use fixshade::raster::phong::{EvenOddPixels, PhongFill, Rows};
 /// assert_eq!((Rows::NAME, Rows::EVEN_ODD), ("phong", false));
-/// assert_eq!((EvenOdd::NAME, EvenOdd::EVEN_ODD), ("phong-even-odd", true));
+/// assert_eq!((EvenOddPixels::NAME, EvenOddPixels::EVEN_ODD), ("phong-even-odd", true));
 /// ```
 pub trait PhongFill {
     /// Name (`phong` or `phong-even-odd`).
@@ -112,7 +114,7 @@ pub trait PhongFill {
 /// One accumulator per attribute, stepping pixel by pixel.
 ///
 /// ```
-/// use fixshade::raster::phong::{draw_phong, EvenOdd, PhongFill, PhongVertex, PixelLight, Rows};
+/// use fixshade::raster::phong::{draw_phong, EvenOddPixels, PhongFill, PhongVertex, PixelLight, Rows};
 /// use fixshade::raster::span::NoDepth;
 /// use fixshade::target::{Framebuffer, Gray8};
 /// /// Grey from the normal's x component.
@@ -130,7 +132,7 @@ pub trait PhongFill {
 ///     px
 /// }
 /// // Both fills light the same lattice values: the same pixels.
-/// assert_eq!(draw::<Rows>(), draw::<EvenOdd>());
+/// assert_eq!(draw::<Rows>(), draw::<EvenOddPixels>());
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Rows;
@@ -138,7 +140,7 @@ pub struct Rows;
 /// Two accumulators per attribute stepping `2·G` over the even and odd pixels.
 ///
 /// ```
-/// use fixshade::raster::phong::{draw_phong, EvenOdd, PhongFill, PhongVertex, PixelLight, Rows};
+/// use fixshade::raster::phong::{draw_phong, EvenOddPixels, PhongFill, PhongVertex, PixelLight, Rows};
 /// use fixshade::raster::span::NoDepth;
 /// use fixshade::target::{Framebuffer, Gray8};
 /// /// Grey from the normal's x component.
@@ -156,17 +158,17 @@ pub struct Rows;
 ///     px
 /// }
 /// // Both fills light the same lattice values: the same pixels.
-/// assert_eq!(draw::<EvenOdd>(), draw::<Rows>());
+/// assert_eq!(draw::<EvenOddPixels>(), draw::<Rows>());
 /// ```
 #[derive(Copy, Clone, Debug, Default)]
-pub struct EvenOdd;
+pub struct EvenOddPixels;
 
 impl PhongFill for Rows {
     const NAME: &'static str = "phong";
     const EVEN_ODD: bool = false;
 }
 
-impl PhongFill for EvenOdd {
+impl PhongFill for EvenOddPixels {
     const NAME: &'static str = "phong-even-odd";
     const EVEN_ODD: bool = true;
 }

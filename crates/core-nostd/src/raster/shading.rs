@@ -5,9 +5,9 @@
 /// A shading mode.
 ///
 /// ```
-/// use fixshade::shade::{Flat, Gouraud, Phong, Quadratic, Shading};
+/// use fixshade::shade::{Flat, Gouraud, Phong, QuadraticSurface, Shading};
 /// assert!(!Flat::INTERPOLATE && Gouraud::INTERPOLATE);
-/// assert!(Quadratic::QUADRATIC && Phong::PER_PIXEL);
+/// assert!(QuadraticSurface::QUADRATIC && Phong::PER_PIXEL);
 /// assert_eq!(Gouraud::NAME, "gouraud");
 /// ```
 pub trait Shading {

@@ -20,12 +20,14 @@ use super::fills::{persp_w, Lit};
 use super::frame::{Frame, RenderError, Stats};
 use super::walk::{Triangle, TriangleFill};
 use crate::divide::Divide;
-use crate::light::{LightingSetup, Specular};
+use crate::light::LightingSetup;
+
 use crate::raster::draw_triangle;
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{draw_phong_div, PhongVertex, Rows};
 use crate::raster::span::{DepthMode, Gradient, WithDivide};
 use crate::shade::Gouraud;
+use crate::specular::Specular;
 use crate::target::{PixelFormat, Target};
 
 /// Steps of the finest channel by which Gouraud's ambient and diffuse light may
@@ -151,9 +153,9 @@ impl<P: PixelFormat, Sp: Specular, T: Target<P>, D: Divide, Z: DepthMode> Triang
 
 #[cfg(test)]
 mod tests {
+    use crate::light::rgb;
     use crate::prelude::*;
     use crate::raster::span::DepthTest;
-    use crate::renderer::rgb;
     use crate::shade::Adaptive;
 
     /// `(drawn, per_pixel)` of the documentation's triangle with no specular colour

@@ -9,7 +9,7 @@
 //! each edge walk at the band's first row: the edge steppers are placed there
 //! directly (one division at most), the lattice is not recomputed. With a
 //! [`Walk`] per record ([`BandMemory::with_walks`]) and the bands drawn in order
-//! ([`Binned::draw_band_resuming`], what [`crate::linebuf::render_binned`] does),
+//! ([`Binned::draw_band_resuming`], what [`crate::present::linebuf::render_binned`] does),
 //! the steppers are not placed again either: each walk goes on from the row where
 //! the band above left it. A band of 16 rows then costs about what the same rows of
 //! a whole-frame draw cost.
@@ -59,7 +59,6 @@ use core::ops::Range;
 
 use super::frame::{Frame, RenderError, Stats};
 use super::walk::{Triangle, TriangleFill};
-use crate::light::Specular;
 use crate::raster::edge::first_row;
 use crate::raster::outside_guard;
 use crate::raster::setup::{lattice, Record};
@@ -67,6 +66,7 @@ use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
 use crate::raster::{fill_gradient, Walk};
 use crate::scene::ShadingMode;
 use crate::shade::{Flat, Gouraud, Shading};
+use crate::specular::Specular;
 use crate::target::{PixelFormat, Target};
 
 /// Caller-owned memory of a frame drawn in bands: the setup records, the bins'

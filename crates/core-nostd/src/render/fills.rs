@@ -18,7 +18,8 @@ use super::walk::{ObjectSetup, Triangle, TriangleFill};
 use crate::divide::Divide;
 use crate::fixed::Q16_16;
 use crate::geometry::Mesh;
-use crate::light::{LightingSetup, Specular};
+use crate::light::LightingSetup;
+
 use crate::math::{normalize_to_q30, Affine3, Vec3};
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling};
@@ -27,6 +28,7 @@ use crate::raster::span::{DepthMode, Gradient, SpanMethod, WithDivide};
 use crate::raster::{draw_in_guard, draw_triangle, ScreenVertex};
 use crate::scene::Object;
 use crate::shade::{Gouraud, Shading};
+use crate::specular::Specular;
 use crate::target::{to_channels, PixelFormat, Target};
 
 /// Gouraud or flat shading (`Sh`) with the span method `S` and the depth mode `Z`:
@@ -74,7 +76,9 @@ impl<P: PixelFormat, Sp: Specular, T: Target<P>, S: SpanMethod, Z: DepthMode, Sh
         }
     }
 
-    #[inline(always)]
+    /// Not inlined: the walk of every span method stays small (the clipper is
+    /// rare, and the micro:bit images are near their flash).
+    #[inline(never)]
     fn clipped(&mut self, _: &(), tri: &Triangle<'_, '_>, st: &mut Stats) {
         let target = &mut *self.target;
         tri.clip_coloured::<Sp>(Sh::INTERPOLATE, st, |s, _| {

@@ -18,11 +18,11 @@ use super::frame::{
     classify, classify_refs, is_back, project_clamped, Class, Frame, Prepared, RenderError, Stats,
     XfVertex, OUTSIDE,
 };
-use crate::clip::{clip_triangle, is_front, signed_area, ClipVertex, MAX_POLY};
+use crate::clip::{clip_triangle, is_front, signed_area, ClipVertex, Polygon, MAX_POLY};
 use crate::geometry::Projector;
-use crate::light::Specular;
 use crate::raster::ScreenVertex;
 use crate::scene::Object;
+use crate::specular::Specular;
 use crate::target::PixelFormat;
 
 /// One shading mode's part of the triangle walk ([`Frame::walk`]): how a triangle
@@ -188,20 +188,9 @@ impl Triangle<'_, '_> {
         vertex: impl Fn((i32, i32, u32), &[i32; N], bool) -> V,
         mut draw: impl FnMut([V; 3], [i64; 3], bool) -> u32,
     ) {
-        let poly = clip_triangle(t, self.vp);
-        let mut sv = [(0, 0, 0); MAX_POLY];
-        let mut w = [0i64; MAX_POLY];
-        for ((o, ow), v) in sv
-            .iter_mut()
-            .zip(w.iter_mut())
-            .zip(poly.v[..poly.len].iter())
-        {
-            let Some(p) = project_clamped(self.vp, v.pos) else {
-                return;
-            };
-            *o = p;
-            *ow = v.pos[3];
-        }
+        let Some((poly, sv, w)) = clip_project(t, self.vp) else {
+            return;
+        };
         for i in 1..poly.len.saturating_sub(1) {
             let k = [0, i, i + 1];
             let xy = k.map(|k| (sv[k].0, sv[k].1));
@@ -215,6 +204,30 @@ impl Triangle<'_, '_> {
             st.pixels += draw(v, k.map(|k| w[k]), front);
         }
     }
+}
+
+/// Clips `t` and projects the polygon: its vertices, their screen positions and
+/// their clip-space w; `None` if a vertex cannot be projected (w <= 0). Not
+/// inlined: one copy for each attribute count serves every fill, which keeps the
+/// clipper's code out of each fill's walk (flash on the small chips).
+#[inline(never)]
+#[allow(clippy::type_complexity)]
+fn clip_project<const N: usize>(
+    t: [ClipVertex<N>; 3],
+    vp: &Projector,
+) -> Option<(Polygon<N>, [(i32, i32, u32); MAX_POLY], [i64; MAX_POLY])> {
+    let poly = clip_triangle(t, vp);
+    let mut sv = [(0, 0, 0); MAX_POLY];
+    let mut w = [0i64; MAX_POLY];
+    for ((o, ow), v) in sv
+        .iter_mut()
+        .zip(w.iter_mut())
+        .zip(poly.v[..poly.len].iter())
+    {
+        *o = project_clamped(vp, v.pos)?;
+        *ow = v.pos[3];
+    }
+    Some((poly, sv, w))
 }
 
 /// [`Triangle::clip_fan_with`] with colours: `N` = 3 attributes a vertex (its
@@ -274,8 +287,8 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                         v.s = F::snap(v.s);
                     }
                     snapped = t;
-                    let v = [&snapped[0], &snapped[1], &snapped[2]];
-                    (v, classify_refs(v, cull, &self.vp, rows.clone()))
+                    let class = classify(&snapped, cull, &self.vp, rows.clone());
+                    ([&snapped[0], &snapped[1], &snapped[2]], class)
                 } else {
                     // The usual path: the three vertices are read in place.
                     let v = idx.map(|i| &verts[i as usize]);

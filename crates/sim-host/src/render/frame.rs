@@ -10,7 +10,7 @@
 use std::time::{Duration, Instant};
 
 use fixshade::effects::{NoSpecular, TwoSided};
-use fixshade::eg::{Covered, CoveredPixel};
+use fixshade::present::eg::{Covered, CoveredPixel};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::target::{DepthFormat, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
 

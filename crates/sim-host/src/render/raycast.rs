@@ -16,10 +16,10 @@ use crate::scene::convert::{
 };
 use crate::scene::desc::SceneDesc;
 use crate::scene::load::LoadedScene;
-use fixshade::light::{BlinnExact, Specular};
 use fixshade::raycast::{Caster, Plane, RayPixels, RayScene, RayVertex, Sphere, TriBox};
 use fixshade::render::Stats;
 use fixshade::sampler::{fill_blocks, fill_row, PixelFn, Threshold};
+use fixshade::specular::{BlinnExact, Specular};
 use fixshade::target::PixelFormat;
 
 /// How to sample: segment length, K, rows or blocks.

@@ -18,7 +18,7 @@
 //! ```
 //! use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
 //! use embedded_graphics_core::prelude::*;
-//! use fixshade::eg::{CoveredPixel, Model};
+//! use fixshade::present::eg::{CoveredPixel, Model};
 //! use fixshade::prelude::*;
 //!
 //! # struct Display([Rgb565; 64 * 48]);
@@ -74,19 +74,19 @@ use egc::primitives::Rectangle;
 use egc::Drawable;
 use embedded_graphics_core as egc;
 
-use crate::light::{BlinnExact, Specular};
-use crate::linebuf::{render_binned, LineBufferProvider};
+use crate::present::linebuf::{render_binned, LineBufferProvider};
+use crate::present::DrawError;
 use crate::raster::span::{Gradient, SpanMethod};
 use crate::render::{BandMemory, Frame, Stats, XfVertex};
-use crate::renderer::DrawError;
 use crate::scene::Scene;
+use crate::specular::{BlinnExact, Specular};
 use crate::target::{Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, TargetError};
 
 /// A pixel format with an embedded-graphics colour.
 ///
 /// ```
 /// use embedded_graphics_core::pixelcolor::{Rgb565, RgbColor};
-/// use fixshade::eg::EgFormat;
+/// use fixshade::present::eg::EgFormat;
 /// use fixshade::target::{PixelFormat, Rgb565Be};
 /// assert_eq!(Rgb565Be::to_color(Rgb565Be::pack(31, 0, 0)), Rgb565::RED);
 /// ```
@@ -135,7 +135,7 @@ impl EgFormat for Gray8 {
 /// A stored pixel of `P` and whether the frame wrote it.
 ///
 /// ```
-/// use fixshade::eg::CoveredPixel;
+/// use fixshade::present::eg::CoveredPixel;
 /// let p = CoveredPixel::<u16>::default();
 /// assert!(!p.written);
 /// ```
@@ -152,7 +152,7 @@ pub struct CoveredPixel<R> {
 /// one prepared for `P`.
 ///
 /// ```
-/// use fixshade::eg::Covered;
+/// use fixshade::present::eg::Covered;
 /// use fixshade::target::{PixelFormat, Rgb888};
 /// let p = Covered::<Rgb888>::pack(1, 2, 3);
 /// assert_eq!((p.raw, p.written), ([1, 2, 3], true));

@@ -60,10 +60,10 @@
 
 use core::ops::Range;
 
-use crate::light::Specular;
+use crate::present::DrawError;
 use crate::raster::span::SpanMethod;
 use crate::render::{BandMemory, Binned, Frame, Stats};
-use crate::renderer::DrawError;
+use crate::specular::Specular;
 use crate::target::{DepthFormat, PixelFormat, Strip, TargetError};
 
 /// Receives a frame band by band; implemented by display drivers.
@@ -73,7 +73,7 @@ use crate::target::{DepthFormat, PixelFormat, Strip, TargetError};
 ///
 /// ```
 /// use core::ops::Range;
-/// use fixshade::linebuf::LineBufferProvider;
+/// use fixshade::present::linebuf::LineBufferProvider;
 /// use fixshade::target::Gray8;
 ///
 /// /// Keeps the last band, one line at most, of a 16 × 16 display.
@@ -175,7 +175,7 @@ where
 ///
 /// ```
 /// use core::ops::Range;
-/// use fixshade::linebuf::render_binned;
+/// use fixshade::present::linebuf::render_binned;
 /// use fixshade::prelude::*;
 /// use fixshade::raster::setup::Record;
 /// use fixshade::render::BandMemory;

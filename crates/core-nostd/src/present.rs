@@ -1,3 +1,9 @@
+//! The presentation layer, above [`crate::render`]: the ways a frame reaches a
+//! display. [`Renderer`] draws a scene in one call; [`linebuf`] streams bands to a
+//! display that lends its own buffers; [`eg`] (feature `embedded-graphics`) draws a
+//! model into any embedded-graphics `DrawTarget`. Nothing below this module
+//! imports it.
+//!
 //! The front door: [`Renderer`] draws a [`Scene`] into a [`Target`] in one call, and
 //! builder methods set a scene up in one expression.
 //!
@@ -40,15 +46,21 @@
 //! assert_eq!(classic.pixels, stats.pixels);
 //! ```
 
+#[cfg(feature = "embedded-graphics")]
+pub mod eg;
+pub mod linebuf;
+
 use core::marker::PhantomData;
 
 use crate::fixed::{Angle, Q16_16};
 use crate::geometry::Mesh;
-use crate::light::{BlinnExact, Color, Light, Material, Specular};
+use crate::light::{Color, Light, Material};
+
 use crate::math::Vec3;
 use crate::raster::span::{Gradient, SpanMethod};
 use crate::render::{Frame, RenderError, Stats, XfVertex};
 use crate::scene::{Camera, CapacityError, Object, Placement, Projection, Scene, ShadingMode};
+use crate::specular::{BlinnExact, Specular};
 use crate::target::{PixelFormat, Target, TargetError};
 
 /// Draws scenes into one target, with the span method `S` and specular model `Sp`
@@ -151,11 +163,11 @@ impl<'t, P: PixelFormat, T: Target<P>, S: SpanMethod, Sp: Specular> Renderer<'t,
     }
 }
 
-/// Why a draw through an adapter ([`crate::linebuf`], the `eg` module) failed: the
+/// Why a draw through an adapter ([`crate::present::linebuf`], the `eg` module) failed: the
 /// frame, or a buffer the caller handed over.
 ///
 /// ```
-/// use fixshade::renderer::DrawError;
+/// use fixshade::present::DrawError;
 /// use fixshade::target::TargetError;
 /// let e: DrawError = TargetError::DepthBufferTooSmall.into();
 /// assert_eq!(e, DrawError::Buffer(TargetError::DepthBufferTooSmall));
@@ -188,21 +200,6 @@ impl core::fmt::Display for DrawError {
             DrawError::Buffer(e) => e.fmt(f),
         }
     }
-}
-
-/// An RGB colour from 8-bit channels (`v / 255` in Q16.16, rounded to nearest).
-///
-/// ```
-/// use fixshade::fixed::Q16_16;
-/// use fixshade::renderer::rgb;
-/// assert_eq!(rgb(255, 0, 51), [Q16_16::ONE, Q16_16::ZERO, Q16_16::from_ratio(1, 5)]);
-/// ```
-pub const fn rgb(r: u8, g: u8, b: u8) -> Color {
-    [
-        Q16_16::from_ratio(r as i32, 255),
-        Q16_16::from_ratio(g as i32, 255),
-        Q16_16::from_ratio(b as i32, 255),
-    ]
 }
 
 /// The +y axis, the default up direction of the camera constructors.
@@ -366,7 +363,7 @@ impl Material {
     ///
     /// ```
     /// use fixshade::light::Material;
-    /// use fixshade::renderer::rgb;
+    /// use fixshade::light::rgb;
     /// let m = Material::default().with_diffuse(rgb(200, 100, 40));
     /// assert_eq!(m.diffuse, rgb(200, 100, 40));
     /// assert_eq!(m.ambient[0].to_bits(), m.diffuse[0].to_bits() / 4);
@@ -383,7 +380,7 @@ impl Material {
     /// ```
     /// use fixshade::fixed::Q16_16;
     /// use fixshade::light::Material;
-    /// use fixshade::renderer::rgb;
+    /// use fixshade::light::rgb;
     /// let m = Material::default().with_specular(rgb(255, 255, 255), 40);
     /// assert_eq!(m.shininess, Q16_16::from_int(40));
     /// ```
@@ -411,7 +408,7 @@ impl<'a> Scene<'a> {
 
     /// The same scene with one more object; fails if it has 16 already.
     ///
-    /// See the [module docs](crate::renderer) for an example.
+    /// See the [module docs](crate::present) for an example.
     pub fn with_object(mut self, object: Object<'a>) -> Result<Scene<'a>, CapacityError> {
         self.add_object(object)?;
         Ok(self)
