@@ -294,6 +294,15 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     let v = idx.map(|i| &verts[i as usize]);
                     (v, classify_refs(v, cull, &self.vp, rows.clone()))
                 };
+                // A skipped triangle (most are: culled) builds nothing more.
+                let drawn = match class {
+                    Class::Skip(why) => {
+                        st.skip(why);
+                        continue;
+                    }
+                    Class::Draw => true,
+                    Class::Clip => false,
+                };
                 let tri = Triangle {
                     v,
                     back,
@@ -303,16 +312,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     vp: &self.vp,
                     cull,
                 };
-                match class {
-                    Class::Skip(why) => st.skip(why),
-                    Class::Draw => {
-                        st.drawn += 1;
-                        st.pixels += fill.inside(&o, &tri, &mut st);
-                    }
-                    Class::Clip => {
-                        st.clipped += 1;
-                        fill.clipped(&o, &tri, &mut st);
-                    }
+                if drawn {
+                    st.drawn += 1;
+                    st.pixels += fill.inside(&o, &tri, &mut st);
+                } else {
+                    st.clipped += 1;
+                    fill.clipped(&o, &tri, &mut st);
                 }
             }
         }
