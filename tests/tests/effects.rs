@@ -8,7 +8,6 @@
 use fixshade::effects::NoSpecular;
 use fixshade::fixed::Q16_16;
 use fixshade::light::{Light, LightKind, LightingSetup, Material};
-
 use fixshade::math::{normalize_to_q30, Mat4};
 use fixshade::specular::Specular;
 use fixshade_sim::image::compare::compare;

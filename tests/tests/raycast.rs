@@ -4,7 +4,6 @@
 
 use fixshade::fixed::{Angle, Q16_16};
 use fixshade::light::{Light, Material};
-
 use fixshade::raycast::{Caster, Plane, RayPixels, RayScene, RayVertex, Sphere, TriBox};
 use fixshade::sampler::{fill_blocks, fill_row, PixelFn, Threshold};
 use fixshade::scene::{Camera, Projection, Scene};

@@ -199,7 +199,6 @@ pub const MAX_LIGHTS: usize = 8;
 /// ```
 /// use fixshade::fixed::Q16_16;
 /// use fixshade::light::{Light, LightingSetup, Material};
-
 /// use fixshade::specular::BlinnExact;
 /// use fixshade::math::{Mat4, ONE_Q30};
 /// let white = [Q16_16::ONE; 3];
@@ -310,7 +309,6 @@ impl<S: Specular> LightingSetup<S> {
     /// ```
     /// use fixshade::fixed::Q16_16;
     /// use fixshade::light::{Light, LightingSetup, Material};
-
     /// use fixshade::specular::BlinnExact;
     /// use fixshade::math::Mat4;
     /// let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], [Q16_16::ONE; 3], [Q16_16::ONE; 3]);
@@ -593,7 +591,6 @@ enum ObjectKind {
 /// ```
 /// use fixshade::fixed::{Q16_16, Q2_14};
 /// use fixshade::light::{Light, LightingSetup, Material};
-
 /// use fixshade::specular::BlinnExact;
 /// use fixshade::math::Mat4;
 /// let white = [Q16_16::ONE; 3];

@@ -1,6 +1,6 @@
 //! The presentation layer, above [`crate::render`]: the ways a frame reaches a
 //! display. [`Renderer`] draws a scene in one call; [`linebuf`] streams bands to a
-//! display that lends its own buffers; [`eg`] (feature `embedded-graphics`) draws a
+//! display that lends its own buffers; `eg` (with the feature `embedded-graphics`) draws a
 //! model into any embedded-graphics `DrawTarget`. Nothing below this module
 //! imports it.
 //!
@@ -55,7 +55,6 @@ use core::marker::PhantomData;
 use crate::fixed::{Angle, Q16_16};
 use crate::geometry::Mesh;
 use crate::light::{Color, Light, Material};
-
 use crate::math::Vec3;
 use crate::raster::span::{Gradient, SpanMethod};
 use crate::render::{Frame, RenderError, Stats, XfVertex};

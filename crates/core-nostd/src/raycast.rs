@@ -42,7 +42,6 @@
 use crate::fixed::Q16_16;
 use crate::geometry::Viewport;
 use crate::light::{Light, LightKind, LightingSetup, Material};
-
 use crate::math::{isqrt_u128, normalize_to_q30, Affine3, ClipMatrix, Vec3, ONE_Q30};
 use crate::sampler::PixelFn;
 use crate::scene::{Projection, Scene, MAX_OBJECTS};
@@ -313,7 +312,6 @@ struct SurfaceLight<S: Specular> {
 /// ```
 /// use fixshade::fixed::Q16_16;
 /// use fixshade::light::{Material};
-
 /// use fixshade::specular::BlinnExact;
 /// use fixshade::raycast::{Caster, RayScene, RayVertex, Sphere, TriBox};
 /// # let scene = fixshade::doc_support::scene();

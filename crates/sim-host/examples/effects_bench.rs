@@ -31,7 +31,6 @@ use std::time::Instant;
 use fixshade::effects::NoSpecular;
 use fixshade::fixed::Q16_16;
 use fixshade::light::{LightKind, LightingSetup};
-
 use fixshade::math::{dot_q30, normalize_to_q30, Affine3};
 use fixshade::raster::span::{Gradient, NoDepth};
 use fixshade::render::{Frame, XfVertex};

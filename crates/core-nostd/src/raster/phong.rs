@@ -57,7 +57,6 @@ use crate::target::{to_channels, DepthFormat, PixelFormat, Target};
 ///
 /// ```
 /// use fixshade::light::{Light, LightingSetup, Material};
-
 /// use fixshade::specular::BlinnExact;
 /// use fixshade::math::{Mat4, ONE_Q30};
 /// use fixshade::raster::phong::PixelLight;

@@ -21,7 +21,6 @@ use super::frame::{Frame, RenderError, Stats};
 use super::walk::{Triangle, TriangleFill};
 use crate::divide::Divide;
 use crate::light::LightingSetup;
-
 use crate::raster::draw_triangle;
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{draw_phong_div, PhongVertex, Rows};

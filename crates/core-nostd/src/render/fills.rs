@@ -19,7 +19,6 @@ use crate::divide::Divide;
 use crate::fixed::Q16_16;
 use crate::geometry::Mesh;
 use crate::light::LightingSetup;
-
 use crate::math::{normalize_to_q30, Affine3, Vec3};
 use crate::raster::perspective::{draw_phong_perspective, draw_triangle_perspective, Perspective};
 use crate::raster::phong::{draw_phong_div, draw_phong_sampled, PhongFill, PhongVertex, Sampling};

@@ -6,7 +6,6 @@ use core::marker::PhantomData;
 
 use crate::geometry::{Projector, Viewport};
 use crate::light::LightingSetup;
-
 use crate::math::{mul_wide_16, normalize_to_q30, Affine3, Mat4, Vec3, VertexTransform, ONE_Q30};
 use crate::raster::ScreenVertex;
 use crate::scene::{Object, Projection, Scene, MAX_OBJECTS};
