@@ -126,7 +126,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
 
     /// The Phong path of [`Frame::draw_with`]: eye-space normals and positions from
     /// the mesh (see [`Frame`]), every covered pixel lit with this frame's
-    /// [`LightingSetup`]. Clipped triangles carry normal and position through the
+    /// [`crate::light::LightingSetup`]. Clipped triangles carry normal and position through the
     /// clipper as six attributes, so they are Phong-shaded too. With `persp` the
     /// attributes are perspective-correct (unless `sampling` is given).
     fn draw_phong<D: Divide, Z: DepthMode, F: PhongFill, T: Target<P>>(

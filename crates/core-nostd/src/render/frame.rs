@@ -1,6 +1,6 @@
-//! The frame: the vertex stage ([`Frame::prepare`]) and the draw calls of a
-//! prepared frame (`Frame::draw*`, each a [`super::walk`] with its shading mode's
-//! fill), with what they report ([`Stats`], [`RenderError`]). Re-exported by [`super`], whose docs hold the example.
+//! The frame: the vertex stage ([`Frame::prepare`]) and what the draw calls of a
+//! prepared frame (`Frame::draw*` in [`super::draw`], each a [`super::walk`] with
+//! its shading mode's fill) report ([`Stats`], [`RenderError`]). Re-exported by [`super`], whose docs hold the example.
 
 use core::marker::PhantomData;
 
