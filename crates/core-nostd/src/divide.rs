@@ -118,7 +118,7 @@
 //! the seam through [`wide_recip`]: a mantissa of `b` bits, one `recip`/`div` of
 //! `2³⁰`, then multiplies.
 //!
-//! The default `D` is [`Exact`], and [`Divide::EXACT`] keeps each stage's own
+//! The default `D` is [`Exact`], and [`Divide::is_exact`] keeps each stage's own
 //! full-precision division then (`classic`'s two Q.40 divisions of the rational
 //! width, the setup's `⌊2⁶²/|det|⌋`, Schlick's rounded 64-bit quotient): the
 //! default pipeline renders bit-identically to the pipeline before the seam. Every
@@ -205,6 +205,20 @@ pub trait Divide {
     /// to the pipeline before the seam. Every other variant goes through
     /// [`wide_recip`].
     const EXACT: bool = false;
+    /// True if this divider divides as [`Exact`] does: [`Divide::EXACT`] for the
+    /// core's variants (the compiler removes the test), and for a divider chosen
+    /// at run time (the simulator's) whether the chosen one is `Exact`. Every stage
+    /// that keeps its own full-precision division asks this, so a run-time divider
+    /// set to `Exact` draws bit-identically to `Exact`.
+    ///
+    /// ```
+    /// use fixshade::divide::{Divide, Exact, Table};
+    /// assert!(Exact::is_exact() && !Table::is_exact());
+    /// ```
+    #[inline(always)]
+    fn is_exact() -> bool {
+        Self::EXACT
+    }
     /// Mantissa bits `b` (clamped to `1..=12`) of a wide divisor in [`wide_recip`]: the divisor is
     /// rounded up to `b` significant bits before [`Divide::recip`] sees it. 12 (the
     /// seam's `1..=4096`) by default; the shift-and-add variants take

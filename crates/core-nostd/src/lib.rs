@@ -36,6 +36,7 @@
 #![deny(missing_docs, unsafe_code, trivial_numeric_casts)]
 #![deny(clippy::float_arithmetic)]
 
+mod arrays;
 pub mod clip;
 #[cfg(feature = "defmt")]
 mod defmt_impls;

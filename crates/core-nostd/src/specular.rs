@@ -263,7 +263,7 @@ pub struct Schlick<D: Divide = Exact>(PhantomData<D>);
 /// [`Exact`], through [`wide_recip`] otherwise, capped at 2³⁰.
 #[inline]
 fn schlick_div<D: Divide>(c: u64, den: u64) -> i32 {
-    if D::EXACT {
+    if D::is_exact() {
         // c·2^30 ≤ 2^60; c ≤ den, so the rounded quotient is ≤ 2^30.
         return (((c << 30) + den / 2) / den) as i32;
     }

@@ -42,6 +42,7 @@ pub mod sierpinski;
 pub mod span;
 pub mod vertex;
 
+use crate::arrays;
 use edge::{first_row, EdgeStepper};
 use pixel::{DepthMode, NoDepth};
 use setup::{Setup, ATTRS};
@@ -285,7 +286,7 @@ impl EdgeAttrs {
 
     #[inline]
     fn get(&self) -> [i64; ATTRS] {
-        self.val.map(|v| v >> 16)
+        arrays::map(self.val, |v| v >> 16)
     }
 }
 
@@ -317,7 +318,7 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    if outside_guard(v.map(|p| (p.x, p.y))) {
+    if outside_guard(arrays::map(v, |p| (p.x, p.y))) {
         return 0;
     }
     draw_in_guard::<P, T, S, Z, Sh>(target, [&v[0], &v[1], &v[2]])
@@ -448,7 +449,7 @@ where
     let anchor = s.anchor();
     let dy0 = rows.0.wrapping_sub(anchor.1);
     // The lattice value at x = 0 of the first row.
-    let base: [i32; ATTRS] = core::array::from_fn(|k| {
+    let base: [i32; ATTRS] = arrays::from_fn(|k| {
         s.a[k]
             .wrapping_sub(anchor.0.wrapping_mul(gx[k]))
             .wrapping_add(dy0.wrapping_mul(gy[k]))
@@ -479,7 +480,7 @@ where
     let mut row = base;
     walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, |span| {
         if let Some((color, depth, x0)) = span {
-            let v = core::array::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
+            let v = arrays::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
             pixel::write_run::<P, Z, Sh>(color, depth, v, gx);
         }
         for k in 0..ATTRS {
@@ -818,8 +819,8 @@ where
     // Lattice increments for a row step of the left edge: one row down plus `a`
     // (or `a + 1` on a diagonal step) pixels across. Wrapping: exact modulo 2^32.
     let inc_a: [i32; ATTRS] =
-        core::array::from_fn(|k| s.gy[k].wrapping_add(left.a.wrapping_mul(s.gx[k])));
-    let inc_b: [i32; ATTRS] = core::array::from_fn(|k| inc_a[k].wrapping_add(s.gx[k]));
+        arrays::from_fn(|k| s.gy[k].wrapping_add(left.a.wrapping_mul(s.gx[k])));
+    let inc_b: [i32; ATTRS] = arrays::from_fn(|k| inc_a[k].wrapping_add(s.gx[k]));
     let mut covered = 0u32;
     for y in ys..ye {
         let x0 = left.q.max(0);
@@ -830,7 +831,7 @@ where
                 vl
             } else {
                 let skip = x0.wrapping_sub(left.q);
-                core::array::from_fn(|k| vl[k].wrapping_add(skip.wrapping_mul(s.gx[k])))
+                arrays::from_fn(|k| vl[k].wrapping_add(skip.wrapping_mul(s.gx[k])))
             };
             let edges = match (&la, &ra) {
                 (Some(l), Some(r)) => EdgeValues {

@@ -18,6 +18,7 @@
 use super::setup::{Setup, ATTRS};
 use super::shading::Shading;
 use super::span::{pack_pixel, write_run, DepthMode, Span, SpanMethod};
+use crate::arrays;
 use crate::divide::Exact;
 use crate::target::{DepthFormat, PixelFormat};
 
@@ -44,7 +45,7 @@ fn sub(a: &[i32; ATTRS], b: &[i32; ATTRS]) -> [i32; ATTRS] {
 /// `k·g` by shifts and adds (k ≤ 64), wrapping.
 #[inline(always)]
 fn times(g: &[i32; ATTRS], k: usize) -> [i32; ATTRS] {
-    g.map(|x| {
+    arrays::map(*g, |x| {
         let mut acc = 0i32;
         let mut bit = 0;
         while (k >> bit) != 0 {
@@ -156,7 +157,7 @@ pub struct Lanes<const K: usize> {
 
 fn lanes<const K: usize>(s: &Setup) -> Lanes<K> {
     Lanes {
-        start: core::array::from_fn(|j| times(&s.gx, j)),
+        start: arrays::from_fn(|j| times(&s.gx, j)),
         step: times(&s.gx, K),
     }
 }
@@ -185,7 +186,7 @@ fn fill_kway<const K: usize, P: PixelFormat, Z: DepthMode, Sh: Shading>(
             for j in 1..K {
                 c[j] = c[j - 1].wrapping_add(d);
             }
-            let z = core::array::from_fn(|j| span.v[3].wrapping_add(l.start[j][3]));
+            let z = arrays::from_fn(|j| span.v[3].wrapping_add(l.start[j][3]));
             let dc = c[K - 1].wrapping_add(d).wrapping_sub(p);
             // The paired loops test two 16-bit depths at once: with 32-bit cells the
             // portable loop below draws the span.
@@ -194,7 +195,7 @@ fn fill_kway<const K: usize, P: PixelFormat, Z: DepthMode, Sh: Shading>(
             }
         }
     }
-    let mut acc: [[i32; ATTRS]; K] = core::array::from_fn(|j| add(&span.v, &l.start[j]));
+    let mut acc: [[i32; ATTRS]; K] = arrays::from_fn(|j| add(&span.v, &l.start[j]));
     let mut i = 0;
     while i + K <= n {
         for (j, a) in acc.iter_mut().enumerate() {
@@ -302,7 +303,7 @@ impl SpanMethod for Counter {
         // (n − 1)·ΔI: n ≤ 4096, wrapping multiply is exact modulo 2^32.
         let last = (n - 1) as i32;
         let mut front = span.v;
-        let mut back = add(&span.v, &g.map(|x| x.wrapping_mul(last)));
+        let mut back = add(&span.v, &arrays::map(*g, |x| x.wrapping_mul(last)));
         let (mut i, mut j) = (0, n - 1);
         while i < j {
             put::<P, Z>(color, depth, i, &front);

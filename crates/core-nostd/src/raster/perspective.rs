@@ -57,6 +57,7 @@ use super::shading::Shading;
 use super::span::{pack_pixel, write_run, DepthMode, NoDepth};
 use super::vertex::ScreenVertex;
 use super::{row_range, scan};
+use crate::arrays;
 use crate::divide::{wide_recip, Divide};
 use crate::target::{PixelFormat, Target};
 
@@ -124,24 +125,24 @@ impl Weights {
     /// colours are ignored. With the weights comes, for each vertex in the setup's
     /// order (top, middle, bottom), the index of the input vertex it is.
     fn new<D: Divide>(v: [ScreenVertex; 3], w: [i64; 3]) -> Option<(Weights, [usize; 3])> {
-        let colourless = v.map(|p| ScreenVertex { c: [0; 3], ..p });
+        let colourless = arrays::map(v, |p| ScreenVertex { c: [0; 3], ..p });
         let (s, det) = setup_with_det_div::<D>(colourless)?;
         // The setup sorted the vertices. A triangle of non-zero area has three
         // distinct positions, so each sorted vertex names its input (attributes, w).
-        let from = s.v.map(|sv| {
+        let from = arrays::map(s.v, |sv| {
             (0..3)
                 .find(|&i| (v[i].x, v[i].y) == (sv.x, sv.y))
                 .unwrap_or(0)
         });
-        let v = from.map(|i| v[i]);
-        let w = from.map(|i| w[i]);
+        let v = arrays::map(from, |i| v[i]);
+        let w = arrays::map(from, |i| w[i]);
         // q_i = 2^15·w_min/w_i: w shifted below 2^40 first, so `w_min << 15` < 2^55.
-        let w = w.map(|x| x.max(1) as u64);
+        let w = arrays::map(w, |x| x.max(1) as u64);
         let top = 64 - (w[0] | w[1] | w[2]).leading_zeros();
         let sh = top.saturating_sub(40);
-        let w = w.map(|x| (x >> sh).max(1));
+        let w = arrays::map(w, |x| (x >> sh).max(1));
         let w_min = w[0].min(w[1]).min(w[2]);
-        let q = w.map(|x| (((w_min << 15) / x).max(1) as i64) << 15); // Q30, ≤ 2^30
+        let q = arrays::map(w, |x| (((w_min << 15) / x).max(1) as i64) << 15); // Q30, ≤ 2^30
         let ox = (16 * s.anchor.0 + 8 - v[0].x) as i128;
         let oy = (16 * s.anchor.1 + 8 - v[0].y) as i128;
         let plane = |at: [i64; 3]| {
@@ -167,7 +168,7 @@ impl Weights {
     fn at(&self, x: i32, y: i32) -> [i64; 3] {
         let dx = x.wrapping_sub(self.s.anchor.0) as i64;
         let dy = y.wrapping_sub(self.s.anchor.1) as i64;
-        self.planes.map(|p| {
+        arrays::map(self.planes, |p| {
             p.a.wrapping_add(dx.wrapping_mul(p.gx))
                 .wrapping_add(dy.wrapping_mul(p.gy))
         })
@@ -176,7 +177,7 @@ impl Weights {
     /// The planes' change over `n` pixels to the right.
     #[inline]
     fn along(&self, n: i64) -> [i64; 3] {
-        self.planes.map(|p| n.wrapping_mul(p.gx))
+        arrays::map(self.planes, |p| n.wrapping_mul(p.gx))
     }
 
     /// The weights `(β₁, β₂)` with `F ≤ 24` fraction bits from plane values: one
@@ -188,7 +189,7 @@ impl Weights {
         let n1 = ((e[0] >> 16).max(0) as u64).min(den);
         let n2 = ((e[1] >> 16).max(0) as u64).min(den);
         // r ≈ 2^(30+F)/den ≤ 2^54, and n ≤ den: n·r ≤ 2^54.
-        let r = if D::EXACT {
+        let r = if D::is_exact() {
             (1u64 << (30 + F)) / den
         } else {
             wide_recip::<D>(den as u128).scaled(30 + F) as u64
@@ -214,12 +215,12 @@ impl PerspSetup {
     /// `None` for a zero-area triangle. Vertices in the guard band, `w > 0`.
     fn new<D: Divide>(v: [ScreenVertex; 3], w: [i64; 3]) -> Option<PerspSetup> {
         let (wt, from) = Weights::new::<D>(v, w)?;
-        let c = from.map(|i| v[i].c.map(|x| x as i64));
+        let c = arrays::map(from, |i| arrays::map(v[i].c, |x| x as i64));
         Some(PerspSetup {
             w: wt,
-            c0: c[0].map(|x| x + ROUND_BIAS as i64),
-            d1: core::array::from_fn(|k| c[1][k] - c[0][k]),
-            d2: core::array::from_fn(|k| c[2][k] - c[0][k]),
+            c0: arrays::map(c[0], |x| x + ROUND_BIAS as i64),
+            d1: arrays::from_fn(|k| c[1][k] - c[0][k]),
+            d2: arrays::from_fn(|k| c[2][k] - c[0][k]),
         })
     }
 
@@ -232,7 +233,7 @@ impl PerspSetup {
         // so it fits i32. Any i32 colours: |d| < 2^33, the sum below 2^50 fits i64,
         // and the cast wraps (out-of-range input gives wrong colours, never a panic;
         // the differences of two samples below wrap too).
-        core::array::from_fn(|k| (self.c0[k] + ((b1 * self.d1[k] + b2 * self.d2[k]) >> 16)) as i32)
+        arrays::from_fn(|k| (self.c0[k] + ((b1 * self.d1[k] + b2 * self.d2[k]) >> 16)) as i32)
     }
 }
 
@@ -248,13 +249,13 @@ trait Samples: Copy {
 impl Samples for [i32; 3] {
     #[inline]
     fn step(a: &Self, b: &Self, log2: u32) -> Self {
-        core::array::from_fn(|k| b[k].wrapping_sub(a[k]) >> log2)
+        arrays::from_fn(|k| b[k].wrapping_sub(a[k]) >> log2)
     }
 
     #[inline]
     fn step_div<D: Divide>(a: &Self, b: &Self, len: u32) -> Self {
         let r = D::recip(len);
-        core::array::from_fn(|k| D::div(b[k].wrapping_sub(a[k]), &r))
+        arrays::from_fn(|k| D::div(b[k].wrapping_sub(a[k]), &r))
     }
 }
 
@@ -262,7 +263,7 @@ impl Samples for [i32; 3] {
 impl Samples for [i64; PA] {
     #[inline]
     fn step(a: &Self, b: &Self, log2: u32) -> Self {
-        core::array::from_fn(|k| b[k].wrapping_sub(a[k]) >> log2)
+        arrays::from_fn(|k| b[k].wrapping_sub(a[k]) >> log2)
     }
 
     #[inline]
@@ -272,7 +273,7 @@ impl Samples for [i64; PA] {
         // (positions; normals < 2^31·2^16), so the difference without its low 18
         // bits fits i32 (any other input wraps: wrong values, never a panic). The
         // step keeps 16 + 12 fraction bits of a normal's Q2.30 and 14 of a position.
-        core::array::from_fn(|k| (D::div((b[k].wrapping_sub(a[k]) >> 18) as i32, &r) as i64) << 18)
+        arrays::from_fn(|k| (D::div((b[k].wrapping_sub(a[k]) >> 18) as i32, &r) as i64) << 18)
     }
 }
 
@@ -306,9 +307,8 @@ where
     // Per-triangle steps: one pixel, and one sub-span, of the planes and the depth.
     let (g1, gsub) = (wt.along(1), wt.along(sub as i64));
     let zsub = (sub as i32).wrapping_mul(gz);
-    let add = |e: [i64; 3], g: &[i64; 3]| -> [i64; 3] {
-        core::array::from_fn(|k| e[k].wrapping_add(g[k]))
-    };
+    let add =
+        |e: [i64; 3], g: &[i64; 3]| -> [i64; 3] { arrays::from_fn(|k| e[k].wrapping_add(g[k])) };
     scan::<P, T, Z, _>(target, &wt.s, rows, false, |color, depth, span| {
         let n = color.len();
         let mut e = wt.at(span.x0, span.y);
@@ -373,12 +373,12 @@ where
     Sh: Shading,
     D: Divide,
 {
-    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
+    if super::vertex::outside_guard(arrays::map(v, |p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
         return 0;
     }
     if !Sh::INTERPOLATE {
         let c = v[2].c;
-        let flat = v.map(|p| ScreenVertex { c, ..p });
+        let flat = arrays::map(v, |p| ScreenVertex { c, ..p });
         return super::draw_triangle::<P, T, super::span::Gradient, Z, Sh>(target, flat);
     }
     let Some(p) = PerspSetup::new::<D>(v, w) else {
@@ -437,20 +437,20 @@ struct PhongSetup {
 impl PhongSetup {
     /// `None` for a zero-area triangle. Vertices in the guard band, `w > 0`.
     fn new<D: Divide>(v: [PhongVertex; 3], w: [i64; 3]) -> Option<PhongSetup> {
-        let sv = v.map(|p| ScreenVertex {
+        let sv = arrays::map(v, |p| ScreenVertex {
             x: p.x,
             y: p.y,
             z: p.z,
             c: [0; 3],
         });
         let (wt, from) = Weights::new::<D>(sv, w)?;
-        let a = from.map(|i| attrs(&v[i]));
+        let a = arrays::map(from, |i| attrs(&v[i]));
         Some(PhongSetup {
             w: wt,
             // |a| < 2^31: below 2^47 with the extra bits.
-            a0: a[0].map(|x| x << 16),
-            d1: core::array::from_fn(|k| a[1][k] - a[0][k]),
-            d2: core::array::from_fn(|k| a[2][k] - a[0][k]),
+            a0: arrays::map(a[0], |x| x << 16),
+            d1: arrays::from_fn(|k| a[1][k] - a[0][k]),
+            d2: arrays::from_fn(|k| a[2][k] - a[0][k]),
         })
     }
 
@@ -461,7 +461,7 @@ impl PhongSetup {
         let (b1, b2) = Weights::beta::<D, 24>(e);
         // β ≤ 2^24 and |d| < 2^32: each product below 2^56, the sum below 2^57;
         // shifted to 16 extra fraction bits it is below 2^49, |a0| < 2^47.
-        core::array::from_fn(|k| self.a0[k] + ((b1 * self.d1[k] + b2 * self.d2[k]) >> 8))
+        arrays::from_fn(|k| self.a0[k] + ((b1 * self.d1[k] + b2 * self.d2[k]) >> 8))
     }
 }
 
@@ -525,7 +525,7 @@ where
     D: Divide,
     L: PixelLight,
 {
-    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
+    if super::vertex::outside_guard(arrays::map(v, |p| (p.x, p.y))) || w.iter().any(|x| *x <= 0) {
         return 0;
     }
     let Some(p) = PhongSetup::new::<D>(v, w) else {
@@ -564,7 +564,7 @@ where
                 if depth_pass::<Z>(depth.next(), z) {
                     shade_pixel::<P, L>(c, &a, light);
                 }
-                a = core::array::from_fn(|k| a[k].wrapping_add(inc[k]));
+                a = arrays::from_fn(|k| a[k].wrapping_add(inc[k]));
                 z = z.wrapping_add(gz);
             }
         },

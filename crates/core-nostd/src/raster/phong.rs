@@ -47,6 +47,7 @@ use super::setup::{setup_with_det_div, Det, Setup, ROUND_BIAS};
 use super::span::DepthMode;
 use super::vertex::ScreenVertex;
 use super::{row_range, scan};
+use crate::arrays;
 use crate::divide::{Divide, Exact};
 use crate::math::{normalize_to_q30, ONE_Q30};
 use crate::sampler::{fill_row, PixelFn, Threshold};
@@ -231,7 +232,7 @@ impl Planes {
     fn at(&self, x: i32, y: i32) -> [i64; PA] {
         let dx = x.wrapping_sub(self.anchor.0) as i64;
         let dy = y.wrapping_sub(self.anchor.1) as i64;
-        core::array::from_fn(|k| {
+        arrays::from_fn(|k| {
             self.a[k]
                 .wrapping_add(dx.wrapping_mul(self.gx[k]))
                 .wrapping_add(dy.wrapping_mul(self.gy[k]))
@@ -426,13 +427,13 @@ where
     D: Divide,
     L: PixelLight,
 {
-    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) {
+    if super::vertex::outside_guard(arrays::map(v, |p| (p.x, p.y))) {
         return (0, 0);
     }
     if Z::TEST && !target.has_depth() {
         return draw_phong_with::<P, T, super::span::NoDepth, F, D, L>(target, v, light, sampling);
     }
-    let sv = v.map(|p| ScreenVertex {
+    let sv = arrays::map(v, |p| ScreenVertex {
         x: p.x,
         y: p.y,
         z: p.z,
@@ -478,9 +479,9 @@ fn fill<P: PixelFormat, Z: DepthMode, F: PhongFill, L: PixelLight>(
     let mut depth = depth.iter_mut();
     if F::EVEN_ODD {
         // Even pixels from `a`, odd ones from `a + G`; both step by 2G.
-        let g2: [i64; PA] = core::array::from_fn(|k| g[k].wrapping_mul(2));
+        let g2: [i64; PA] = arrays::from_fn(|k| g[k].wrapping_mul(2));
         let mut even = a;
-        let mut odd: [i64; PA] = core::array::from_fn(|k| a[k].wrapping_add(g[k]));
+        let mut odd: [i64; PA] = arrays::from_fn(|k| a[k].wrapping_add(g[k]));
         let (mut ze, mut zo) = (z, z.wrapping_add(gz));
         let gz2 = gz.wrapping_mul(2);
         let mut pairs = color.chunks_mut(2);
@@ -528,8 +529,7 @@ impl<P: PixelFormat, L: PixelLight> PixelFn for PieceLight<'_, P, L> {
     #[inline]
     fn eval(&mut self, x: u32, _y: u32) -> [u32; 3] {
         // x < SAMPLED_PIECE; wrapping like every lattice step.
-        let a =
-            core::array::from_fn(|k| self.a[k].wrapping_add((x as i64).wrapping_mul(self.g[k])));
+        let a = arrays::from_fn(|k| self.a[k].wrapping_add((x as i64).wrapping_mul(self.g[k])));
         lit_channels::<P, L>(&a, self.light)
     }
 }

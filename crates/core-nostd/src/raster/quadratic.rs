@@ -55,6 +55,7 @@
 //! pixel. Depth stays on the linear lattice of [`Setup`], coverage is the edge
 //! walker's (the top-left rule), identical to [`super::span::Gradient`].
 
+use crate::arrays;
 use core::ops::Range;
 
 use super::edge::{first_row, EdgeStepper};
@@ -102,7 +103,7 @@ impl Recip {
     /// most `2¹²⁷/|d|`, so [`Recip::div`]'s overflow bounds hold; its rounding claim
     /// is the exact reciprocal's (an approximate one adds `η` relative).
     fn new<D: Divide>(d: i128) -> Recip {
-        let inv = if D::EXACT {
+        let inv = if D::is_exact() {
             (1u128 << 127) / d.unsigned_abs()
         } else {
             // r ≤ 2^30 scaled to 2^127: below 2^127, and at least 1.
@@ -168,8 +169,8 @@ impl Quad {
         // Rotate (keeping the edge ↔ midpoint pairing) so vertex 0 is the top one,
         // the vertex the anchor pixel is taken from.
         let top = (0..3).min_by_key(|&k| (v[k].y, v[k].x)).unwrap_or(0);
-        let vv: [ScreenVertex; 3] = core::array::from_fn(|k| v[(k + top) % 3]);
-        let mm: [[i32; 3]; 3] = core::array::from_fn(|k| mid[(k + top) % 3]);
+        let vv: [ScreenVertex; 3] = arrays::from_fn(|k| v[(k + top) % 3]);
+        let mm: [[i32; 3]; 3] = arrays::from_fn(|k| mid[(k + top) % 3]);
         let [p0, p1, p2] = vv;
         let (dx1, dy1) = ((p1.x - p0.x) as i64, (p1.y - p0.y) as i64);
         let (dx2, dy2) = ((p2.x - p0.x) as i64, (p2.y - p0.y) as i64);
@@ -247,7 +248,7 @@ impl Quad {
     pub fn at(&self, x: i32, y: i32) -> [i64; 3] {
         let i = x.wrapping_sub(self.anchor.0) as i64;
         let j = y.wrapping_sub(self.anchor.1) as i64;
-        self.coef.map(|[a, b, c, d, e, f]| {
+        arrays::map(self.coef, |[a, b, c, d, e, f]| {
             a.wrapping_mul(i.wrapping_mul(i))
                 .wrapping_add(b.wrapping_mul(j.wrapping_mul(j)))
                 .wrapping_add(c.wrapping_mul(i.wrapping_mul(j)))
@@ -262,7 +263,7 @@ impl Quad {
     fn dx(&self, x: i32, y: i32) -> [i64; 3] {
         let i = x.wrapping_sub(self.anchor.0) as i64;
         let j = y.wrapping_sub(self.anchor.1) as i64;
-        self.coef.map(|[a, _, c, d, _, _]| {
+        arrays::map(self.coef, |[a, _, c, d, _, _]| {
             a.wrapping_mul(2 * i + 1)
                 .wrapping_add(c.wrapping_mul(j))
                 .wrapping_add(d)
@@ -274,7 +275,7 @@ impl Quad {
     fn dy(&self, x: i32, y: i32) -> [i64; 3] {
         let i = x.wrapping_sub(self.anchor.0) as i64;
         let j = y.wrapping_sub(self.anchor.1) as i64;
-        self.coef.map(|[_, b, c, _, e, _]| {
+        arrays::map(self.coef, |[_, b, c, _, e, _]| {
             b.wrapping_mul(2 * j + 1)
                 .wrapping_add(c.wrapping_mul(i))
                 .wrapping_add(e)
@@ -371,7 +372,7 @@ fn fill_row<P: PixelFormat, T: Target<P>, Z: DepthMode>(
 ) {
     let mut v = q.at(x0, y);
     let mut px = q.dx(x0, y);
-    let a2: [i64; 3] = q.coef.map(|c| c[0].wrapping_mul(2));
+    let a2: [i64; 3] = arrays::map(q.coef, |c| c[0].wrapping_mul(2));
     let mut z = s.at(x0, y)[3];
     let gz = s.gx[3];
     let (crow, drow) = target.row(y);
@@ -425,14 +426,14 @@ fn fill_pair<P: PixelFormat, T: Target<P>, Z: DepthMode>(
     // +4A for the x+1 units, +2C for the y+1 units; all grow by 8A per step.
     let i = xs.wrapping_sub(q.anchor.0) as i64;
     let j = y.wrapping_sub(q.anchor.1) as i64;
-    let s00: [i64; 3] = q.coef.map(|[a, _, c, d, _, _]| {
+    let s00: [i64; 3] = arrays::map(q.coef, |[a, _, c, d, _, _]| {
         a.wrapping_mul(4 * i + 4)
             .wrapping_add(c.wrapping_mul(2 * j))
             .wrapping_add(d.wrapping_mul(2))
     });
-    let a4 = q.coef.map(|c| c[0].wrapping_mul(4));
-    let c2 = q.coef.map(|c| c[2].wrapping_mul(2));
-    let a8 = q.coef.map(|c| c[0].wrapping_mul(8));
+    let a4 = arrays::map(q.coef, |c| c[0].wrapping_mul(4));
+    let c2 = arrays::map(q.coef, |c| c[2].wrapping_mul(2));
+    let a8 = arrays::map(q.coef, |c| c[0].wrapping_mul(8));
     let mut s10 = s00;
     add3(&mut s10, &a4);
     let mut s01 = s00;
@@ -606,7 +607,7 @@ pub fn draw_quadratic_div<P: PixelFormat, T: Target<P>, Z: DepthMode, D: Divide>
     mid: [[i32; 3]; 3],
     fill: Fill,
 ) -> u32 {
-    if super::vertex::outside_guard(v.map(|p| (p.x, p.y))) {
+    if super::vertex::outside_guard(arrays::map(v, |p| (p.x, p.y))) {
         return 0;
     }
     let (Some(s), Some(q)) = (setup_div::<D>(v), Quad::fit_div::<D>(v, mid)) else {

@@ -36,6 +36,7 @@
 
 use super::edge::first_row;
 use super::vertex::ScreenVertex;
+use crate::arrays;
 use crate::divide::{wide_recip, Divide, Exact};
 use crate::math::{leading_zeros, mul_wide, recip_q61};
 
@@ -85,7 +86,7 @@ impl Setup {
     pub fn at(&self, x: i32, y: i32) -> [i32; ATTRS] {
         let dx = x.wrapping_sub(self.anchor.0);
         let dy = y.wrapping_sub(self.anchor.1);
-        core::array::from_fn(|k| {
+        arrays::from_fn(|k| {
             self.a[k]
                 .wrapping_add(dx.wrapping_mul(self.gx[k]))
                 .wrapping_add(dy.wrapping_mul(self.gy[k]))
@@ -130,7 +131,7 @@ impl Det {
         }
         // |det| ≥ 1 and < 2^35: a u64 division (one hardware divide on 64-bit hosts).
         // Both branches give 1 ≤ inv ≤ 2^62: fits i64, and so does its negation.
-        let inv = if D::EXACT {
+        let inv = if D::is_exact() {
             ((1u64 << 62) / det.unsigned_abs()) as i64
         } else {
             // ≤ 2^62 (the mantissa is at least 1), at least 1: the sign survives.
@@ -197,7 +198,7 @@ pub fn setup(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// ```
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
-    if D::EXACT {
+    if D::is_exact() {
         return setup_fast(v);
     }
     setup_with_det_div::<D>(v).map(|(s, _)| s)
@@ -331,7 +332,7 @@ impl Record {
     #[inline(always)]
     pub fn of(s: &Setup) -> Record {
         Record {
-            xy: s.v.map(|p| (p.x, p.y)),
+            xy: arrays::map(s.v, |p| (p.x, p.y)),
             gx: s.gx,
             gy: s.gy,
             a: s.a,
@@ -400,12 +401,14 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
                                     // 16·2^30 (some |d| ≥ 1). `hmax` bounds the high words' magnitudes (xor with
                                     // the sign: |v| ≤ (hmax + 1)·2^32), so with t = bits(hmax) + 2 every |v| >> t
                                     // is at most 2^30 and the largest at least 2^29; t is in [4, 22].
-    let p = [16 * dy2, -16 * dy1, -16 * dx2, 16 * dx1].map(|d| mul_wide(d, r));
+    let p = arrays::map([16 * dy2, -16 * dy1, -16 * dx2, 16 * dx1], |d| {
+        mul_wide(d, r)
+    });
     let hmax = p.iter().fold(0u32, |acc, v| {
         acc | (((v >> 32) as i32) ^ ((v >> 63) as i32)) as u32
     });
     let sh_t = 34 - leading_zeros(hmax);
-    let bb = p.map(|v| {
+    let bb = arrays::map(p, |v| {
         let q = round_shift(v, sh_t);
         if neg {
             -q
@@ -454,7 +457,7 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
     let ox = 16 * anchor.0 + 8 - t.x;
     let oy = 16 * anchor.1 + 8 - t.y;
     let a0 = [t.c[0], t.c[1], t.c[2], t.z as i32];
-    let a = core::array::from_fn(|k| {
+    let a = arrays::from_fn(|k| {
         let off = ((mul_wide(gx[k], ox) + mul_wide(gy[k], oy) + 8) >> 4) as i32;
         // Modulo 2^32 by design (the depth is unsigned).
         a0[k].wrapping_add(off).wrapping_add(ROUND_BIAS)
@@ -508,7 +511,7 @@ fn round_shift(n: i64, sh: u32) -> i32 {
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Setup, Det)> {
     let v = sort3(v);
-    let det = Det::new::<D>(v.map(|p| (p.x, p.y)))?;
+    let det = Det::new::<D>(arrays::map(v, |p| (p.x, p.y)))?;
     let (a0, a1, a2) = (attrs(&v[0]), attrs(&v[1]), attrs(&v[2]));
     let mut gx = [0i64; ATTRS];
     let mut gy = [0i64; ATTRS];
@@ -525,7 +528,7 @@ pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Set
     let ox = (16 * anchor.0 + 8 - v[0].x) as i64;
     let oy = (16 * anchor.1 + 8 - v[0].y) as i64;
     // ox, oy < 16 and |g| < 2^55: the sum is below 2^60.
-    let a = core::array::from_fn(|k| {
+    let a = arrays::from_fn(|k| {
         let off = (ox * gx[k] + oy * gy[k] + 8) >> 4;
         (a0[k] + off + ROUND_BIAS as i64) as i32 // modulo 2^32 by design
     });
@@ -533,8 +536,8 @@ pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Set
         // y points down: the middle vertex is left of top→bottom when det < 0.
         mid_left: det.inv < 0,
         v,
-        gx: gx.map(|g| g as i32), // modulo 2^32 by design
-        gy: gy.map(|g| g as i32),
+        gx: arrays::map(gx, |g| g as i32), // modulo 2^32 by design
+        gy: arrays::map(gy, |g| g as i32),
         anchor,
         a,
         unwrapped: gx

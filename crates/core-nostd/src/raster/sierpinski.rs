@@ -108,6 +108,7 @@
 //! [`SierpinskiExact`] then walks the triangle to stay identical, [`Sierpinski`]
 //! packs at the sub-triangle spans' first pixels.)
 
+use crate::arrays;
 use core::ops::Range;
 
 use super::draw_setup;
@@ -290,7 +291,7 @@ impl Sierpinski {
         if Z::TEST && !target.has_depth() {
             return Self::draw_stats::<P, T, NoDepth, Sh>(target, tri);
         }
-        let v = tri.v.map(snap);
+        let v = arrays::map(tri.v, snap);
         if v == tri.v {
             return replicate::<P, T, Z, Sh>(target, tri);
         }
@@ -369,7 +370,7 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    let [a, b, c] = s.v.map(|p| (p.x, p.y));
+    let [a, b, c] = arrays::map(s.v, |p| (p.x, p.y));
     let (k, l, m) = (mid(a, b), mid(b, c), mid(a, c));
     // Whole-pixel translations of the corner triangle AKM onto KBL and MLC.
     let t: [Pt; 3] = [
@@ -378,8 +379,8 @@ where
         ((c.0 - a.0) / 32, (c.1 - a.1) / 32),
     ];
     // Value offsets t·∇V on the parent's lattice (wrapping: exact modulo 2^32).
-    let off: [[i32; ATTRS]; 3] = t.map(|(tx, ty)| {
-        core::array::from_fn(|i| {
+    let off: [[i32; ATTRS]; 3] = arrays::map(t, |(tx, ty)| {
+        arrays::from_fn(|i| {
             tx.wrapping_mul(s.gx[i])
                 .wrapping_add(ty.wrapping_mul(s.gy[i]))
         })
@@ -393,7 +394,7 @@ where
             if !rows.contains(&yy) {
                 continue;
             }
-            let vj = core::array::from_fn(|i| v[i].wrapping_add(o[i]));
+            let vj = arrays::from_fn(|i| v[i].wrapping_add(o[i]));
             let n = put_span::<P, T, Z, Sh>(target, width, yy, ql + tx, qr + tx, vj, &s.gx);
             if j == 0 {
                 st.shaded += n;
@@ -405,7 +406,7 @@ where
     // Copy j lands in the target from the shaded rows `rows − ty_j`. Walk the union
     // of the three intervals (merged, in order), so that a strip costs only the rows
     // that reach it.
-    let mut iv = t.map(|(_, ty)| (rows.start - ty, rows.end - ty));
+    let mut iv = arrays::map(t, |(_, ty)| (rows.start - ty, rows.end - ty));
     iv.sort_unstable();
     let mut cur = iv[0];
     for r in &iv[1..] {
@@ -448,7 +449,7 @@ where
         return 0;
     }
     let skip = x0 - xs;
-    let v = core::array::from_fn(|i| v[i].wrapping_add(skip.wrapping_mul(g[i])));
+    let v = arrays::from_fn(|i| v[i].wrapping_add(skip.wrapping_mul(g[i])));
     let (crow, drow) = target.row(y);
     let (a, b) = (x0 as usize, x1 as usize);
     let depth = if Z::TEST {
@@ -516,8 +517,8 @@ where
     let mut vl = s.at(left.q, ys.start);
     // A row step of the left edge: one row down and `a` (or `a + 1`) pixels across.
     let inc_a: [i32; ATTRS] =
-        core::array::from_fn(|i| s.gy[i].wrapping_add(left.a.wrapping_mul(s.gx[i])));
-    let inc_b: [i32; ATTRS] = core::array::from_fn(|i| inc_a[i].wrapping_add(s.gx[i]));
+        arrays::from_fn(|i| s.gy[i].wrapping_add(left.a.wrapping_mul(s.gx[i])));
+    let inc_b: [i32; ATTRS] = arrays::from_fn(|i| inc_a[i].wrapping_add(s.gx[i]));
     for y in ys {
         if left.q < right.q {
             emit(y, left.q, right.q, &vl);

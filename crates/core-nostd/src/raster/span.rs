@@ -177,7 +177,7 @@ impl<D: Divide> SpanMethod for Classic<D> {
         if width <= 0 || dist < 0 {
             return; // the span is empty: no pixel centre lies between the crossings
         }
-        let (t40, inv_w40) = if D::EXACT {
+        let (t40, inv_w40) = if D::is_exact() {
             // t and 1/W in Q.40: dist ≤ width, so t40 ≤ 2^40; dist << 40 < 2^96.
             (
                 div_wide((dist as u128) << 40, width as u128) as i128,
@@ -272,7 +272,7 @@ impl<S: SpanMethod, D: Divide> SpanMethod for WithDivide<S, D> {
         v: [&ScreenVertex; 3],
     ) -> u32 {
         // With the exact divider `S`'s own setup is this one's.
-        if D::EXACT {
+        if D::is_exact() {
             return S::draw_vertices::<P, T, Z, Sh>(target, v);
         }
         match &Self::setup([*v[0], *v[1], *v[2]]) {

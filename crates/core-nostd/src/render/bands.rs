@@ -55,6 +55,7 @@
 //! assert_eq!(frame.draw::<Gradient, _>(&mut fb).unwrap().pixels, covered);
 //! ```
 
+use crate::arrays;
 use core::ops::Range;
 
 use super::frame::{Frame, RenderError, Stats};
@@ -368,7 +369,7 @@ impl<P: PixelFormat, Sp: Specular> TriangleFill<P, Sp> for Binner<'_> {
     #[inline(always)]
     fn clipped(&mut self, _: &(), tri: &Triangle<'_, '_>, st: &mut Stats) {
         tri.clip_coloured::<Sp>(!self.flat, st, |s, _| {
-            if !outside_guard(s.map(|p| (p.x, p.y))) {
+            if !outside_guard(arrays::map(s, |p| (p.x, p.y))) {
                 self.push(lattice([&s[0], &s[1], &s[2]]));
             }
             0

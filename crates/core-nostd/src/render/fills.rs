@@ -11,6 +11,7 @@
 //! - adaptive shading's fill is in [`super::adaptive`], the binning's in
 //!   [`super::bands`].
 
+use crate::arrays;
 use core::marker::PhantomData;
 
 use super::frame::{eye_normal, Frame, RenderError, Stats};
@@ -196,7 +197,7 @@ impl<Sp: Specular> Lit<Sp> {
                 y: s.y,
                 z: s.z,
                 n: if Sp::TWO_SIDED {
-                    n.map(|c| sign * c)
+                    arrays::map(n, |c| sign * c)
                 } else {
                     n
                 },
@@ -227,7 +228,7 @@ impl<Sp: Specular> Lit<Sp> {
                 y,
                 z,
                 n: if Sp::TWO_SIDED {
-                    n.map(|c| self.facing(!front).1 * c)
+                    arrays::map(n, |c| self.facing(!front).1 * c)
                 } else {
                     n
                 },
@@ -251,15 +252,15 @@ impl<Sp: Specular> Lit<Sp> {
         back: bool,
     ) -> [i32; 3] {
         let (pos, nrm, nm) = (mesh.positions(), mesh.normals(), &self.aff.normal);
-        let m: Vec3 = core::array::from_fn(|k| {
+        let m: Vec3 = arrays::from_fn(|k| {
             Q16_16::from_bits(
                 ((pos[a][k].to_bits() as i64 + pos[b][k].to_bits() as i64) >> 1) as i32,
             )
         });
         let n: [i64; 3] =
-            core::array::from_fn(|k| nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64);
+            arrays::from_fn(|k| nrm[a][k].to_bits() as i64 + nrm[b][k].to_bits() as i64);
         // Entries < 2^31, components < 2^16: sums of three < 2^49.
-        let ne: [i64; 3] = core::array::from_fn(|r| {
+        let ne: [i64; 3] = arrays::from_fn(|r| {
             nm[r][0] as i64 * n[0] + nm[r][1] as i64 * n[1] + nm[r][2] as i64 * n[2]
         });
         match normalize_to_q30(ne) {
@@ -267,12 +268,12 @@ impl<Sp: Specular> Lit<Sp> {
                 let at = self.aff.point(&m);
                 to_channels::<P>(match (&self.back, back) {
                     // Q2.30 components within ±2³⁰: the negation cannot overflow.
-                    (Some(b), true) => b.shade(at, unit.map(|c| -c)),
+                    (Some(b), true) => b.shade(at, arrays::map(unit, |c| -c)),
                     _ => self.light.shade(at, unit),
                 })
             }
             // Opposite normals: no midpoint normal, average the colours.
-            None => core::array::from_fn(|k| ((ca[k] as i64 + cb[k] as i64) >> 1) as i32),
+            None => arrays::from_fn(|k| ((ca[k] as i64 + cb[k] as i64) >> 1) as i32),
         }
     }
 }
@@ -310,7 +311,7 @@ impl<P: PixelFormat, Sp: Specular, T: Target<P>, D: Divide, Z: DepthMode, Sh: Sh
     fn inside(&mut self, lit: &Lit<Sp>, tri: &Triangle<'_, '_>, _: &mut Stats) -> u32 {
         let back = tri.faces_back::<Sp>();
         let s = tri.coloured(true, back);
-        let m = core::array::from_fn(|k| {
+        let m = arrays::from_fn(|k| {
             let (a, b) = (k, (k + 1) % 3);
             let ends = (tri.idx[a] as usize, tri.idx[b] as usize);
             lit.midpoint::<P>(&tri.obj.mesh, ends, (s[a].c, s[b].c), back)

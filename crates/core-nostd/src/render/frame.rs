@@ -2,6 +2,7 @@
 //! prepared frame (`Frame::draw*` in [`super::draw`], each a [`super::walk`] with
 //! its shading mode's fill) report ([`Stats`], [`RenderError`]). Re-exported by [`super`], whose docs hold the example.
 
+use crate::arrays;
 use core::marker::PhantomData;
 
 use crate::geometry::{Projector, Viewport};
@@ -209,7 +210,7 @@ fn light_back<P: PixelFormat, Sp: Specular>(
         if f.flags & NEEDED == 0 {
             continue;
         }
-        let unit = eye_normal(aff, n).map(|c| -c);
+        let unit = arrays::map(eye_normal(aff, n), |c| -c);
         let at = if position { aff.point(p) } else { [0; 3] };
         b.s.c = to_channels::<P>(light.shade(at, unit));
     }
@@ -253,7 +254,7 @@ fn mark_needed<const CULL: bool, const OUTSIDE_ANY: bool, const SMALL: bool>(
     // Pixel centres at 16k + 8 (see `classify_refs`).
     let (right, bottom) = (16 * vp.width as i32 - 8, 16 * vp.height as i32 - 8);
     for tri in tris {
-        let [a, b, c] = tri.map(|i| &out[i as usize]);
+        let [a, b, c] = arrays::map(*tri, |i| &out[i as usize]);
         let draw = if OUTSIDE_ANY && (a.flags | b.flags | c.flags) & OUTSIDE != 0 {
             true
         } else {
@@ -762,9 +763,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
 /// `(0, 0, 1)` for a zero normal.
 pub(super) fn eye_normal(aff: &Affine3, n: &[crate::fixed::Q2_14; 3]) -> [i32; 3] {
     let nm = &aff.normal;
-    let nv = n.map(|c| c.to_bits());
+    let nv = arrays::map(*n, |c| c.to_bits());
     // Entries < 2^31, components < 2^15: sums of three < 2^48.
-    let ne: [i64; 3] = core::array::from_fn(|r| {
+    let ne: [i64; 3] = arrays::from_fn(|r| {
         mul_wide_16(nm[r][0], nv[0]) + mul_wide_16(nm[r][1], nv[1]) + mul_wide_16(nm[r][2], nv[2])
     });
     normalize_to_q30(ne).unwrap_or([0, 0, ONE_Q30])

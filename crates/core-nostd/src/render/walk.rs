@@ -12,6 +12,7 @@
 //! projects the clipped polygon, culls and counts its pieces, and hands each piece
 //! to the fill.
 
+use crate::arrays;
 use core::ops::Range;
 
 use super::frame::{
@@ -121,7 +122,7 @@ impl Triangle<'_, '_> {
     /// The screen vertices with the colours [`Triangle::colour`] gives them.
     #[inline(always)]
     pub(super) fn coloured(&self, interpolate: bool, back: bool) -> [ScreenVertex; 3] {
-        core::array::from_fn(|k| ScreenVertex {
+        arrays::from_fn(|k| ScreenVertex {
             c: self.colour(k, interpolate, back),
             ..self.v[k].s
         })
@@ -131,8 +132,9 @@ impl Triangle<'_, '_> {
     #[inline(always)]
     pub(super) fn clip_w(&self) -> [i64; 3] {
         let pos = self.obj.mesh.positions();
-        self.idx
-            .map(|i| self.prep.clip().transform(&pos[i as usize])[3])
+        arrays::map(self.idx, |i| {
+            self.prep.clip().transform(&pos[i as usize])[3]
+        })
     }
 
     /// The vertices for the clipper: clip-space positions, recomputed, and the
@@ -143,7 +145,7 @@ impl Triangle<'_, '_> {
         attr: impl Fn(usize) -> [i32; N],
     ) -> [ClipVertex<N>; 3] {
         let pos = self.obj.mesh.positions();
-        core::array::from_fn(|k| ClipVertex {
+        arrays::from_fn(|k| ClipVertex {
             pos: self.prep.clip().transform(&pos[self.idx[k] as usize]),
             c: attr(k),
         })
@@ -181,7 +183,7 @@ impl Triangle<'_, '_> {
     /// their clip-space w and facing, and counts it and the pixels `draw` returns
     /// in `st`.
     #[inline(always)]
-    pub(super) fn clip_fan_with<const N: usize, V>(
+    pub(super) fn clip_fan_with<const N: usize, V: Copy>(
         &self,
         t: [ClipVertex<N>; 3],
         st: &mut Stats,
@@ -193,15 +195,15 @@ impl Triangle<'_, '_> {
         };
         for i in 1..poly.len.saturating_sub(1) {
             let k = [0, i, i + 1];
-            let xy = k.map(|k| (sv[k].0, sv[k].1));
+            let xy = arrays::map(k, |k| (sv[k].0, sv[k].1));
             let front = is_front(xy[0], xy[1], xy[2]);
             let area = signed_area(xy[0], xy[1], xy[2]);
             if area == 0 || (self.cull && !front) {
                 continue;
             }
-            let v = k.map(|k| vertex(sv[k], &poly.v[k].c, front));
+            let v = arrays::map(k, |k| vertex(sv[k], &poly.v[k].c, front));
             st.drawn += 1;
-            st.pixels += draw(v, k.map(|k| w[k]), front);
+            st.pixels += draw(v, arrays::map(k, |k| w[k]), front);
         }
     }
 }
@@ -274,10 +276,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             let (verts, backs) = self.sides(prep.offset, obj.mesh.positions().len());
             for &idx in obj.mesh.triangles() {
                 st.triangles += 1;
-                let back = idx.map(|i| &backs[i as usize]);
                 let snapped;
                 let (v, class) = if F::SNAPS {
-                    let mut t = idx.map(|i| verts[i as usize]);
+                    let mut t = arrays::map(idx, |i| verts[i as usize]);
                     let whole = 0..self.vp.height as i32;
                     if let Class::Skip(why) = classify(&t, cull, &self.vp, whole) {
                         st.skip(why);
@@ -291,7 +292,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     ([&snapped[0], &snapped[1], &snapped[2]], class)
                 } else {
                     // The usual path: the three vertices are read in place.
-                    let v = idx.map(|i| &verts[i as usize]);
+                    let v = arrays::map(idx, |i| &verts[i as usize]);
                     (v, classify_refs(v, cull, &self.vp, rows.clone()))
                 };
                 // A skipped triangle (most are: culled) builds nothing more.
@@ -305,7 +306,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 };
                 let tri = Triangle {
                     v,
-                    back,
+                    back: arrays::map(idx, |i| &backs[i as usize]),
                     idx,
                     obj,
                     prep: &prep,

@@ -18,10 +18,11 @@
 //! take the same set again for strips with 32-bit cells, depth-tested draws only (a
 //! draw without the depth test never reads the cells, so it takes the 16-bit set).
 //!
-//! Each comes twice: with the exact divider, and with [`HostDivide`] (every
-//! approximate divider, chosen at run time, see [`super::host`]). The specular model
-//! is not a parameter here: frames are prepared with [`super::host::HostSpecular`]
-//! (or without a specular term, `NoSpecular`), whose model is chosen at run time.
+//! The divider is one parameter per lighting type: frames without a specular term
+//! (`NoSpecular`) and two-sided frames take the exact divider, the plain types;
+//! frames lit with [`super::host::HostSpecular`] take [`HostDivide`], every divider
+//! chosen at run time, `exact` included (see [`super::host`]). The specular model is
+//! not a parameter here either: `HostSpecular` chooses it at run time.
 //! The functions are fn pointers into the table of the frame's pixel format, built
 //! from the core's registry ([`fixshade::for_each_span_method!`],
 //! [`fixshade::for_each_shading!`]), so a new span method needs no line here.
@@ -248,14 +249,12 @@ impl Lighting for NoSpecular {
     }
 }
 
-/// With the specular model chosen at run time: every divider.
+/// With the specular model chosen at run time: every divider, `exact` included,
+/// through [`HostDivide`] (bit-identical to the plain types when `exact` is
+/// selected, see [`super::host`]).
 impl Lighting for HostSpecular {
     fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P, Self>, String> {
-        if d.divide == DivideName::EXACT {
-            choose_with::<P, Self, Exact>(d)
-        } else {
-            choose_with::<P, Self, HostDivide>(d)
-        }
+        choose_with::<P, Self, HostDivide>(d)
     }
 }
 

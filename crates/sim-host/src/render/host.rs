@@ -10,9 +10,12 @@
 //! per material and frame) store the selected variant's own prepared value in an
 //! enum with one variant per registry entry; `div` and `eval` branch once on it (one
 //! `match`, a jump table) and run the variant's code. The results are exactly the
-//! core variant's; only the host's timing includes the branch. The `exact` divider
-//! never goes through it: the pipeline then draws the plain types, bit-identical to
-//! the pipeline before the divider seam.
+//! core variant's; only the host's timing includes the branch. With `exact`
+//! selected, [`HostDivide`]'s `Divide::is_exact` is true, so every stage keeps its
+//! own full-precision division, as with the core's `Exact`: frames lit with
+//! [`HostSpecular`] take `HostDivide` for every divider, `exact` included, and are
+//! bit-identical to the plain types' (frames without the specular term, and
+//! two-sided ones, draw the plain types).
 //!
 //! The selection is per thread and set only by [`with_selection`], which
 //! [`crate::render::dispatch`] wraps around the vertex stage and the draw of a frame.
@@ -134,6 +137,10 @@ macro_rules! host_divide {
             }
             fn mantissa_bits() -> u32 {
                 at_index!(selected().0.index(), [$(($S, $D))*], D => D::mantissa_bits())
+            }
+            #[inline]
+            fn is_exact() -> bool {
+                selected().0 == DivideName::EXACT
             }
         }
     };
