@@ -203,7 +203,8 @@ pub trait Divide {
     /// its own (the classic span's rational width, the setup's `2⁶²/|det|`,
     /// Schlick's Q.30 denominator) keeps it, so the default renders bit-identically
     /// to the pipeline before the seam. Every other variant goes through
-    /// [`wide_recip`].
+    /// [`wide_recip`]. The stages ask [`Divide::is_exact`], which is this constant
+    /// for every divider of the core.
     const EXACT: bool = false;
     /// True if this divider divides as [`Exact`] does: [`Divide::EXACT`] for the
     /// core's variants (the compiler removes the test), and for a divider chosen
