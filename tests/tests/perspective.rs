@@ -9,8 +9,7 @@
 use fixshade::divide::Divide;
 use fixshade_sim::image::compare::compare;
 use fixshade_sim::render;
-use fixshade_sim::render::host::{with_selection, HostDivide};
-use fixshade_sim::scene::desc::SpecularName;
+use fixshade_sim::render::host::{with_selection, HostDivide, Selection};
 use fixshade_sim::scene::desc::{DivideName, Named, ShadingName};
 use fixshade_sim::scene::load;
 use fixshade_sim::scene::load::LoadedScene;
@@ -96,7 +95,11 @@ fn dividers_keep_coverage_and_stay_close() {
         if d == DivideName::EXACT {
             continue;
         }
-        let (b, e) = with_selection(d, SpecularName::EXACT, || {
+        let sel = Selection {
+            divide: d,
+            ..Selection::EXACT
+        };
+        let (b, e) = with_selection(sel, || {
             let b = HostDivide::mantissa_bits().clamp(1, 12);
             (b, HostDivide::max_error(1 << 30, 1 << b) as f64)
         });

@@ -147,6 +147,10 @@ impl<Sp: Specular> Specular for TwoSided<Sp> {
     const ENABLED: bool = Sp::ENABLED;
     const TWO_SIDED: bool = true;
     type Params = Sp::Params;
+    #[inline(always)]
+    fn enabled() -> bool {
+        Sp::enabled()
+    }
     #[inline]
     fn prepare(n: Q16_16) -> Sp::Params {
         Sp::prepare(n)

@@ -95,10 +95,39 @@ pub trait Specular {
     /// ([`crate::effects::NoSpecular`]): lighting then compiles without the half
     /// vector, the power and the specular sums.
     const ENABLED: bool = true;
+    /// True if frames lit with this type run the specular term:
+    /// [`Specular::ENABLED`] for the core's types (the compiler removes the test),
+    /// and for a model chosen at run time (the simulator's) whether the term is
+    /// chosen. Every stage asks this.
+    ///
+    /// ```
+    /// use fixshade::effects::NoSpecular;
+    /// use fixshade::specular::{BlinnExact, Specular};
+    /// assert!(BlinnExact::enabled() && !NoSpecular::enabled());
+    /// ```
+    #[inline(always)]
+    fn enabled() -> bool {
+        Self::ENABLED
+    }
     /// True for two-sided lighting ([`crate::effects::TwoSided`]): the vertex stage
     /// also lights every vertex with its negated normal and the back material, and
     /// back faces draw with those colours. False for every plain model.
     const TWO_SIDED: bool = false;
+    /// True if frames lit with this type light two-sided: [`Specular::TWO_SIDED`]
+    /// for the core's types (the compiler removes the test), and for a model chosen
+    /// at run time (the simulator's) whether two-sided lighting is chosen. Every
+    /// stage asks this, so such a type draws one-sided and two-sided frames with
+    /// one set of functions.
+    ///
+    /// ```
+    /// use fixshade::effects::TwoSided;
+    /// use fixshade::specular::{BlinnExact, Specular};
+    /// assert!(TwoSided::<BlinnExact>::two_sided() && !BlinnExact::two_sided());
+    /// ```
+    #[inline(always)]
+    fn two_sided() -> bool {
+        Self::TWO_SIDED
+    }
     /// Per-material data derived from n once per frame (a table lookup, a reciprocal).
     type Params: Copy;
     /// Prepares the parameters for exponent `n` (already clamped to 1..=1000).

@@ -42,7 +42,7 @@ use fixshade::fixed::Angle;
 use fixshade::present::eg::CoveredPixel;
 use fixshade::target::Strip;
 use fixshade_sim::render::dispatch::DepthStrip;
-use fixshade_sim::render::{host::HostSpecular, Pipeline};
+use fixshade_sim::render::Pipeline;
 use fixshade_sim::scene::builtin;
 use fixshade_sim::scene::convert::core_scene;
 use fixshade_sim::scene::desc::{MeshSource, Named, SceneDesc, ShadingName, SpanName};
@@ -50,7 +50,7 @@ use fixshade_sim::scene::load::load;
 
 /// The pipeline of one row: the simulator's dispatch for the scene (Rgb565Le, the
 /// exact specular term of the scene, run-time chosen as `fixshade render` does).
-type Row = Pipeline<fixshade::target::Rgb565Le, HostSpecular>;
+type Row = Pipeline<fixshade::target::Rgb565Le>;
 
 /// The rows compared, as (name, span method, shading); the first two are the
 /// baselines of the ratio columns: every span method of the core's registry with

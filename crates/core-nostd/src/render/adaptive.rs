@@ -65,7 +65,7 @@ impl<P: PixelFormat, Sp: Specular> Frame<'_, '_, '_, P, Sp> {
         target: &mut T,
         persp: Option<Perspective>,
     ) -> Result<Stats, RenderError> {
-        if Sp::TWO_SIDED {
+        if Sp::two_sided() {
             return Err(RenderError::TwoSidedUnsupported);
         }
         let rows = target.rows();

@@ -224,7 +224,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             starts,
             walks,
         } = mem;
-        if Sp::TWO_SIDED {
+        if Sp::two_sided() {
             // No records of the back colours: bands re-walk.
             return Ok(self.unbinned(band_rows));
         }

@@ -150,7 +150,7 @@ impl<P: PixelFormat, Sp: Specular> ObjectSetup<P, Sp> for Lit<Sp> {
         let mv = view.mul(&obj.placement.matrix());
         let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: index })?;
         let light = frame.lighting(obj, view);
-        let back = if Sp::TWO_SIDED {
+        let back = if Sp::two_sided() {
             Some(frame.back_lighting(obj, view))
         } else {
             None
@@ -196,7 +196,7 @@ impl<Sp: Specular> Lit<Sp> {
                 x: s.x,
                 y: s.y,
                 z: s.z,
-                n: if Sp::TWO_SIDED {
+                n: if Sp::two_sided() {
                     arrays::map(n, |c| sign * c)
                 } else {
                     n
@@ -227,7 +227,7 @@ impl<Sp: Specular> Lit<Sp> {
                 x,
                 y,
                 z,
-                n: if Sp::TWO_SIDED {
+                n: if Sp::two_sided() {
                     arrays::map(n, |c| self.facing(!front).1 * c)
                 } else {
                     n
@@ -236,7 +236,7 @@ impl<Sp: Specular> Lit<Sp> {
             }
         };
         tri.clip_fan_with(cv, st, vertex, |v, w, front| {
-            draw(v, w, self.facing(Sp::TWO_SIDED && !front).0)
+            draw(v, w, self.facing(Sp::two_sided() && !front).0)
         });
     }
 

@@ -631,7 +631,7 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             }
             // 3. Light the vertices that are needed, in eye space.
             light_needed::<P, Sp>(out, pos, mesh.normals(), &aff, &light);
-            if Sp::TWO_SIDED {
+            if Sp::two_sided() {
                 // 4. Two-sided: the same vertices with the negated normal and the
                 //    back material (the front material when the object has none).
                 let back_light = LightingSetup::<Sp>::new(
@@ -674,7 +674,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     /// assert_eq!(Frame::<Gray8, TwoSided>::cache_len(&scene), 6);
     /// ```
     pub fn cache_len(scene: &Scene<'_>) -> usize {
-        if Sp::TWO_SIDED {
+        if Sp::two_sided() {
             2 * scene.vertex_count()
         } else {
             scene.vertex_count()
@@ -709,7 +709,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     #[inline(always)]
     pub(super) fn sides(&self, offset: usize, n: usize) -> (&[XfVertex], &[XfVertex]) {
         let front = &self.cache[offset..offset + n];
-        if Sp::TWO_SIDED {
+        if Sp::two_sided() {
             let b = self.back + offset;
             (front, &self.cache[b..b + n])
         } else {

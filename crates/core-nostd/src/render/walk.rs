@@ -104,7 +104,7 @@ impl Triangle<'_, '_> {
     /// face under two-sided lighting (the sign test of culling).
     #[inline(always)]
     pub(super) fn faces_back<Sp: Specular>(&self) -> bool {
-        Sp::TWO_SIDED && is_back(self.screen())
+        Sp::two_sided() && is_back(self.screen())
     }
 
     /// The colour of vertex `k` for Gouraud (`interpolate`) or flat shading (the
@@ -162,7 +162,7 @@ impl Triangle<'_, '_> {
         st: &mut Stats,
         draw: impl FnMut([ScreenVertex; 3], [i64; 3]) -> u32,
     ) {
-        if Sp::TWO_SIDED {
+        if Sp::two_sided() {
             let cv = self.clip_vertices(|k| {
                 let f = self.colour(k, interpolate, false);
                 let r = self.colour(k, interpolate, true);

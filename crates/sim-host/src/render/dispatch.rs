@@ -18,24 +18,20 @@
 //! take the same set again for strips with 32-bit cells, depth-tested draws only (a
 //! draw without the depth test never reads the cells, so it takes the 16-bit set).
 //!
-//! The divider is one parameter per lighting type: frames without a specular term
-//! (`NoSpecular`) and two-sided frames take the exact divider, the plain types;
-//! frames lit with [`super::host::HostSpecular`] take [`HostDivide`], every divider
-//! chosen at run time, `exact` included (see [`super::host`]). The specular model is
-//! not a parameter here either: `HostSpecular` chooses it at run time.
+//! The divider, the specular model, the specular term and two-sided lighting are
+//! not parameters here: every frame is lit with [`HostSpecular`] and divides with
+//! [`HostDivide`], which take them from the run-time selection (see
+//! [`super::host`]), so each pixel format has one set of draws.
 //! The functions are fn pointers into the table of the frame's pixel format, built
 //! from the core's registry ([`fixshade::for_each_span_method!`],
 //! [`fixshade::for_each_shading!`]), so a new span method needs no line here.
 
-use fixshade::divide::{Divide, Exact};
-use fixshade::effects::{NoSpecular, TwoSided};
 use fixshade::raster::perspective::Perspective;
 use fixshade::raster::phong::Sampling;
 use fixshade::raster::span::{DepthMode, DepthTest, Gradient, NoDepth, SpanMethod, WithDivide};
 use fixshade::render::{Frame, RenderError, Stats};
 use fixshade::sampler::Threshold;
 use fixshade::shade::{Flat, Gouraud, Shading};
-use fixshade::specular::Specular;
 use fixshade::target::{DepthFormat, PixelFormat, Strip};
 
 use super::host::{HostDivide, HostSpecular};
@@ -52,8 +48,11 @@ pub struct Args {
 }
 
 /// A frame's draw into a strip with depth cells `C`, with its arguments.
-pub type DrawFn<P, Sp, C = u16> =
-    fn(&Frame<'_, '_, '_, P, Sp>, &mut Strip<'_, P, C>, &Args) -> Result<Stats, RenderError>;
+pub type DrawFn<P, C = u16> = fn(
+    &Frame<'_, '_, '_, P, HostSpecular>,
+    &mut Strip<'_, P, C>,
+    &Args,
+) -> Result<Stats, RenderError>;
 
 /// A strip with the depth cells its scene asks for (`depth_bits`).
 pub enum DepthStrip<'s, 'b, P: PixelFormat> {
@@ -74,19 +73,19 @@ impl<'b, P: PixelFormat> DepthStrip<'_, 'b, P> {
 }
 
 /// The draw function of either depth cell.
-enum Fn16or32<P: PixelFormat, Sp: Specular> {
-    D16(DrawFn<P, Sp, u16>),
-    D32(DrawFn<P, Sp, u32>),
+enum Fn16or32<P: PixelFormat> {
+    D16(DrawFn<P, u16>),
+    D32(DrawFn<P, u32>),
 }
 
 /// The draw a scene description asks for, chosen once: call [`Draw::run`] for
 /// every strip of every frame.
-pub struct Draw<P: PixelFormat, Sp: Specular> {
-    f: Fn16or32<P, Sp>,
+pub struct Draw<P: PixelFormat> {
+    f: Fn16or32<P>,
     args: Args,
 }
 
-impl<P: PixelFormat, Sp: Specular> Draw<P, Sp> {
+impl<P: PixelFormat> Draw<P> {
     /// True if the draw takes strips with 32-bit depth cells.
     pub fn depth32(&self) -> bool {
         matches!(self.f, Fn16or32::D32(_))
@@ -96,7 +95,7 @@ impl<P: PixelFormat, Sp: Specular> Draw<P, Sp> {
     /// ([`Draw::depth32`]).
     pub fn run(
         &self,
-        frame: &Frame<'_, '_, '_, P, Sp>,
+        frame: &Frame<'_, '_, '_, P, HostSpecular>,
         target: DepthStrip<'_, '_, P>,
     ) -> Result<Stats, String> {
         match (&self.f, target) {
@@ -108,16 +107,16 @@ impl<P: PixelFormat, Sp: Specular> Draw<P, Sp> {
     }
 }
 
-fn with<P: PixelFormat, Sp: Specular, S: SpanMethod, Z: DepthMode, Sh: Shading, C: DepthFormat>(
-    frame: &Frame<'_, '_, '_, P, Sp>,
+fn with<P: PixelFormat, S: SpanMethod, Z: DepthMode, Sh: Shading, C: DepthFormat>(
+    frame: &Frame<'_, '_, '_, P, HostSpecular>,
     target: &mut Strip<'_, P, C>,
     _: &Args,
 ) -> Result<Stats, RenderError> {
     frame.draw_with::<S, Z, Sh, _>(target)
 }
 
-fn sampled<P: PixelFormat, Sp: Specular, C: DepthFormat>(
-    frame: &Frame<'_, '_, '_, P, Sp>,
+fn sampled<P: PixelFormat, C: DepthFormat>(
+    frame: &Frame<'_, '_, '_, P, HostSpecular>,
     target: &mut Strip<'_, P, C>,
     args: &Args,
 ) -> Result<Stats, RenderError> {
@@ -125,24 +124,24 @@ fn sampled<P: PixelFormat, Sp: Specular, C: DepthFormat>(
     frame.draw_phong_sampled(target, sampling)
 }
 
-fn perspective<D: Divide, P: PixelFormat, Sp: Specular, C: DepthFormat>(
-    frame: &Frame<'_, '_, '_, P, Sp>,
+fn perspective<P: PixelFormat, C: DepthFormat>(
+    frame: &Frame<'_, '_, '_, P, HostSpecular>,
     target: &mut Strip<'_, P, C>,
     args: &Args,
 ) -> Result<Stats, RenderError> {
     let mode = args.perspective.expect("chosen with a perspective mode");
-    frame.draw_perspective::<D, _>(target, mode)
+    frame.draw_perspective::<HostDivide, _>(target, mode)
 }
 
 /// Flat and Gouraud draws of every span method, indexed `[method][2·gouraud +
 /// depth]`.
 macro_rules! span_table {
-    ([$P:ty, $Sp:ty] $($S:ty),* $(,)?) => {
+    ([$P:ty] $($S:ty),* $(,)?) => {
         [$([
-            with::<$P, $Sp, $S, NoDepth, Flat, u16> as DrawFn<$P, $Sp>,
-            with::<$P, $Sp, $S, DepthTest, Flat, u16>,
-            with::<$P, $Sp, $S, NoDepth, Gouraud, u16>,
-            with::<$P, $Sp, $S, DepthTest, Gouraud, u16>,
+            with::<$P, $S, NoDepth, Flat, u16> as DrawFn<$P>,
+            with::<$P, $S, DepthTest, Flat, u16>,
+            with::<$P, $S, NoDepth, Gouraud, u16>,
+            with::<$P, $S, DepthTest, Gouraud, u16>,
         ]),*]
     };
 }
@@ -150,10 +149,10 @@ macro_rules! span_table {
 /// Depth-tested flat and Gouraud draws of every span method into 32-bit depth
 /// cells, indexed `[method][gouraud]`.
 macro_rules! span_table32 {
-    ([$P:ty, $Sp:ty] $($S:ty),* $(,)?) => {
+    ([$P:ty] $($S:ty),* $(,)?) => {
         [$([
-            with::<$P, $Sp, $S, DepthTest, Flat, u32> as DrawFn<$P, $Sp, u32>,
-            with::<$P, $Sp, $S, DepthTest, Gouraud, u32>,
+            with::<$P, $S, DepthTest, Flat, u32> as DrawFn<$P, u32>,
+            with::<$P, $S, DepthTest, Gouraud, u32>,
         ]),*]
     };
 }
@@ -161,10 +160,10 @@ macro_rules! span_table32 {
 /// Draws of every core shading mode with the span method `$G`, indexed
 /// `[shading][depth]`.
 macro_rules! shading_table {
-    ([$P:ty, $Sp:ty, $G:ty] $(($name:expr, $mode:expr, $Sh:ty)),* $(,)?) => {
+    ([$P:ty, $G:ty] $(($name:expr, $mode:expr, $Sh:ty)),* $(,)?) => {
         [$([
-            with::<$P, $Sp, $G, NoDepth, $Sh, u16> as DrawFn<$P, $Sp>,
-            with::<$P, $Sp, $G, DepthTest, $Sh, u16>,
+            with::<$P, $G, NoDepth, $Sh, u16> as DrawFn<$P>,
+            with::<$P, $G, DepthTest, $Sh, u16>,
         ]),*]
     };
 }
@@ -172,8 +171,8 @@ macro_rules! shading_table {
 /// Depth-tested draws of every core shading mode with the span method `$G` into
 /// 32-bit depth cells, indexed `[shading]`.
 macro_rules! shading_table32 {
-    ([$P:ty, $Sp:ty, $G:ty] $(($name:expr, $mode:expr, $Sh:ty)),* $(,)?) => {
-        [$(with::<$P, $Sp, $G, DepthTest, $Sh, u32> as DrawFn<$P, $Sp, u32>),*]
+    ([$P:ty, $G:ty] $(($name:expr, $mode:expr, $Sh:ty)),* $(,)?) => {
+        [$(with::<$P, $G, DepthTest, $Sh, u32> as DrawFn<$P, u32>),*]
     };
 }
 
@@ -189,104 +188,53 @@ pub fn perspective_shading(s: ShadingName) -> bool {
     )
 }
 
-/// The draws of one divider: the exact one (the plain span types) or
-/// [`HostDivide`] (every approximate divider).
-trait Divided: Divide {
-    /// Flat and Gouraud draws of every span method, `[method][2·gouraud + depth]`.
-    fn spans<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 4]>;
-    /// Draws of every core shading mode with `gradient`, `[shading][depth]`.
-    fn shadings<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 2]>;
-    /// Depth-tested flat and Gouraud draws into 32-bit cells, `[method][gouraud]`.
-    fn spans32<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp, u32>; 2]>;
-    /// Depth-tested draws of every core shading mode into 32-bit cells, `[shading]`.
-    fn shadings32<P: PixelFormat, Sp: Specular>() -> Vec<DrawFn<P, Sp, u32>>;
+/// Flat and Gouraud draws of every span method, `[method][2·gouraud + depth]`.
+fn spans<P: PixelFormat>() -> Vec<[DrawFn<P>; 4]> {
+    fixshade::for_each_span_method!(span_table[P]; HostDivide).to_vec()
 }
 
-impl Divided for Exact {
-    fn spans<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 4]> {
-        fixshade::for_each_span_method!(span_table[P, Sp]).to_vec()
-    }
-    fn shadings<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 2]> {
-        fixshade::for_each_shading!(shading_table[P, Sp, Gradient]).to_vec()
-    }
-    fn spans32<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp, u32>; 2]> {
-        fixshade::for_each_span_method!(span_table32[P, Sp]).to_vec()
-    }
-    fn shadings32<P: PixelFormat, Sp: Specular>() -> Vec<DrawFn<P, Sp, u32>> {
-        fixshade::for_each_shading!(shading_table32[P, Sp, Gradient]).to_vec()
-    }
+/// Draws of every core shading mode with `gradient`, `[shading][depth]`.
+fn shadings<P: PixelFormat>() -> Vec<[DrawFn<P>; 2]> {
+    fixshade::for_each_shading!(shading_table[P, WithDivide<Gradient, HostDivide>]).to_vec()
 }
 
-impl Divided for HostDivide {
-    fn spans<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 4]> {
-        fixshade::for_each_span_method!(span_table[P, Sp]; HostDivide).to_vec()
-    }
-    fn shadings<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp>; 2]> {
-        fixshade::for_each_shading!(shading_table[P, Sp, WithDivide<Gradient, HostDivide>]).to_vec()
-    }
-    fn spans32<P: PixelFormat, Sp: Specular>() -> Vec<[DrawFn<P, Sp, u32>; 2]> {
-        fixshade::for_each_span_method!(span_table32[P, Sp]; HostDivide).to_vec()
-    }
-    fn shadings32<P: PixelFormat, Sp: Specular>() -> Vec<DrawFn<P, Sp, u32>> {
-        fixshade::for_each_shading!(shading_table32[P, Sp, WithDivide<Gradient, HostDivide>])
-            .to_vec()
-    }
+/// Depth-tested flat and Gouraud draws into 32-bit cells, `[method][gouraud]`.
+fn spans32<P: PixelFormat>() -> Vec<[DrawFn<P, u32>; 2]> {
+    fixshade::for_each_span_method!(span_table32[P]; HostDivide).to_vec()
 }
 
-/// The frames' lighting types and the draws each is compiled for.
-pub trait Lighting: Specular + Sized {
-    /// Chooses the draw of `d` (not ray casting) for frames lit with `Self`.
-    fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P, Self>, String>;
+/// Depth-tested draws of every core shading mode into 32-bit cells, `[shading]`.
+fn shadings32<P: PixelFormat>() -> Vec<DrawFn<P, u32>> {
+    fixshade::for_each_shading!(shading_table32[P, WithDivide<Gradient, HostDivide>]).to_vec()
 }
 
-/// Without a specular term: the exact divider only ([`super::frame::specular_pipeline`]).
-impl Lighting for NoSpecular {
-    fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P, Self>, String> {
-        if d.divide != DivideName::EXACT {
-            return Err("frames without the specular term take the exact divider".into());
-        }
-        choose_with::<P, Self, Exact>(d)
-    }
-}
-
-/// With the specular model chosen at run time: every divider, `exact` included,
-/// through [`HostDivide`] (bit-identical to the plain types when `exact` is
-/// selected, see [`super::host`]).
-impl Lighting for HostSpecular {
-    fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P, Self>, String> {
-        choose_with::<P, Self, HostDivide>(d)
-    }
-}
-
-/// Two-sided lighting with the specular model chosen at run time: the exact
+/// Chooses the draw of `d` (not ray casting). Two-sided lighting takes the exact
 /// divider only, and not adaptive shading (the core does not support it there).
-impl Lighting for TwoSided<HostSpecular> {
-    fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P, Self>, String> {
+pub fn choose<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P>, String> {
+    if d.two_sided {
         if d.shading == ShadingName::ADAPTIVE {
             return Err(fixshade::render::RenderError::TwoSidedUnsupported.to_string());
         }
         if d.divide != DivideName::EXACT {
             return Err("two-sided lighting takes the exact divider (divide = \"exact\")".into());
         }
-        choose_with::<P, Self, Exact>(d)
     }
+    choose_draw::<P>(d)
 }
 
-/// Chooses the draw of `d` with the divider `D`: sampled Phong when the scene samples
+/// The draw of `d`: sampled Phong when the scene samples
 /// Phong lighting, perspective-correct colours or normals when a Gouraud, Phong or
 /// adaptive scene asks for them (coverage then follows `gradient`), the shading's
 /// own fill for quadratic, Phong and adaptive, the span method otherwise; with the
 /// scene's depth test, into 32-bit depth cells when the scene asks for them and
 /// tests depth.
-fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
-    d: &SceneDesc,
-) -> Result<Draw<P, Sp>, String> {
+fn choose_draw<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P>, String> {
     if d.shading.core().is_none() {
         return Err(format!("{} has no raster pipeline", d.shading));
     }
     let depth = usize::from(d.depth_test);
     let d32 = d.depth_test && d.depth_bits == 32;
-    let draw = |f16: DrawFn<P, Sp>, f32: DrawFn<P, Sp, u32>, args: Args| Draw {
+    let draw = |f16: DrawFn<P>, f32: DrawFn<P, u32>, args: Args| Draw {
         f: if d32 {
             Fn16or32::D32(f32)
         } else {
@@ -303,7 +251,7 @@ fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
             }),
             ..Args::default()
         };
-        return Ok(draw(sampled::<P, Sp, u16>, sampled::<P, Sp, u32>, args));
+        return Ok(draw(sampled::<P, u16>, sampled::<P, u32>, args));
     }
     if d.perspective_correct && perspective_shading(d.shading) {
         let mode = Perspective::new(d.perspective_span).ok_or_else(|| {
@@ -316,26 +264,18 @@ fn choose_with<P: PixelFormat, Sp: Specular, D: Divided>(
             perspective: Some(mode),
             ..Args::default()
         };
-        return Ok(draw(
-            perspective::<D, P, Sp, u16>,
-            perspective::<D, P, Sp, u32>,
-            args,
-        ));
+        return Ok(draw(perspective::<P, u16>, perspective::<P, u32>, args));
     }
     let args = Args::default();
     if d.shading.own_fill() {
         let i = d.shading.index();
-        return Ok(draw(
-            D::shadings::<P, Sp>()[i][depth],
-            D::shadings32::<P, Sp>()[i],
-            args,
-        ));
+        return Ok(draw(shadings::<P>()[i][depth], shadings32::<P>()[i], args));
     }
     let gouraud = usize::from(d.shading == ShadingName::GOURAUD);
     let i = d.span.index();
     Ok(draw(
-        D::spans::<P, Sp>()[i][2 * gouraud + depth],
-        D::spans32::<P, Sp>()[i][gouraud],
+        spans::<P>()[i][2 * gouraud + depth],
+        spans32::<P>()[i][gouraud],
         args,
     ))
 }

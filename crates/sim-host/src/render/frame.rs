@@ -9,50 +9,58 @@
 
 use std::time::{Duration, Instant};
 
-use fixshade::effects::{NoSpecular, TwoSided};
 use fixshade::present::eg::{Covered, CoveredPixel};
 use fixshade::render::{Frame, Stats, XfVertex};
 use fixshade::target::{DepthFormat, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
 
-use super::dispatch::{DepthStrip, Draw, Lighting};
-use super::host::{with_selection, HostSpecular};
+use super::dispatch::{choose, DepthStrip, Draw};
+use super::host::{with_selection, HostSpecular, Selection};
 use super::output::Render;
 use crate::image::Image;
 use crate::scene::convert::{background8, background_channels, core_scene, FixedMesh};
-use crate::scene::desc::{DivideName, FormatName, SceneDesc, ShadingName, SpecularName};
+use crate::scene::desc::{DivideName, FormatName, SceneDesc, ShadingName};
 use crate::scene::effects::{forced_specular, has_specular};
 use crate::scene::load::LoadedScene;
 use fixshade::scene::Scene;
 
 /// True if the frame runs the specular term: some light and some material have a
-/// specular colour, or `+specular` is forced, or the divider is approximate.
-/// Otherwise a frame of the default format (rgb565, see `Drawn::Diffuse`) runs without the
-/// specular code ([`NoSpecular`]). The pixels are the same either way (without a
-/// specular colour the term is zero); only the time differs, so the pipelines
-/// without the specular term are compiled for what the effects measurements time
-/// (`fixshade effects`, `--explain`: rgb565 scenes, the exact divider) and no more.
+/// specular colour, or `+specular` is forced, or the divider is approximate, or the
+/// lighting is two-sided. Otherwise the frame skips the specular code, as the core's
+/// [`fixshade::effects::NoSpecular`] does (the selection's `specular_term`, see
+/// [`super::host`]). The pixels are the same either way (without a specular colour
+/// the term is zero); only the time differs (`fixshade effects`, `--explain`).
 pub fn specular_pipeline(d: &SceneDesc) -> bool {
-    has_specular(d) || forced_specular(d) || d.divide != DivideName::EXACT
+    has_specular(d) || forced_specular(d) || d.divide != DivideName::EXACT || d.two_sided
 }
 
 /// The frames a scene description asks for, chosen once ([`super::dispatch`]) with
-/// the divider and specular model it selects: prepares (vertex stage) and draws
-/// frames of a scene in `P` with coverage ([`Covered`]). `Sp` is the frames'
-/// lighting: [`HostSpecular`], or [`NoSpecular`] where [`specular_pipeline`] is
-/// false and the format is the default.
-pub struct Pipeline<P: PixelFormat, Sp: Lighting> {
-    draw: Draw<Covered<P>, Sp>,
-    divide: DivideName,
-    specular: SpecularName,
+/// the divider, specular model, specular term and sides of lighting it selects:
+/// prepares (vertex stage) and draws frames of a scene in `P` with coverage
+/// ([`Covered`]), lit with [`HostSpecular`].
+pub struct Pipeline<P: PixelFormat> {
+    draw: Draw<Covered<P>>,
+    selection: Selection,
 }
 
-impl<P: PixelFormat, Sp: Lighting> Pipeline<P, Sp> {
+impl<P: PixelFormat> Pipeline<P> {
     /// The pipeline of `d` (not ray casting).
     pub fn new(d: &SceneDesc) -> Result<Self, String> {
         Ok(Pipeline {
-            draw: Sp::choose(d)?,
-            divide: d.divide,
-            specular: d.specular,
+            draw: choose(d)?,
+            selection: Selection {
+                divide: d.divide,
+                specular: d.specular,
+                specular_term: specular_pipeline(d),
+                two_sided: d.two_sided,
+            },
+        })
+    }
+
+    /// The vertex cache entries a frame of `scene` needs (twice the vertices under
+    /// two-sided lighting).
+    pub fn cache_len(&self, scene: &Scene<'_>) -> usize {
+        with_selection(self.selection, || {
+            Frame::<Covered<P>, HostSpecular>::cache_len(scene)
         })
     }
 
@@ -63,9 +71,9 @@ impl<P: PixelFormat, Sp: Lighting> Pipeline<P, Sp> {
         width: u32,
         height: u32,
         cache: &'c mut [XfVertex],
-    ) -> Result<Frame<'s, 'a, 'c, Covered<P>, Sp>, String> {
-        with_selection(self.divide, self.specular, || {
-            Frame::<Covered<P>>::prepare_with::<Sp>(scene, width, height, cache)
+    ) -> Result<Frame<'s, 'a, 'c, Covered<P>, HostSpecular>, String> {
+        with_selection(self.selection, || {
+            Frame::<Covered<P>>::prepare_with::<HostSpecular>(scene, width, height, cache)
         })
         .map_err(|e| e.to_string())
     }
@@ -79,10 +87,10 @@ impl<P: PixelFormat, Sp: Lighting> Pipeline<P, Sp> {
     /// cells are the pipeline's ([`Pipeline::depth32`]).
     pub fn draw(
         &self,
-        frame: &Frame<'_, '_, '_, Covered<P>, Sp>,
+        frame: &Frame<'_, '_, '_, Covered<P>, HostSpecular>,
         strip: DepthStrip<'_, '_, Covered<P>>,
     ) -> Result<Stats, String> {
-        with_selection(self.divide, self.specular, || self.draw.run(frame, strip))
+        with_selection(self.selection, || self.draw.run(frame, strip))
     }
 }
 
@@ -95,30 +103,23 @@ pub trait Drawn: PixelFormat {
     type As: PixelFormat;
     /// True if the bytes of `As` are swapped in pairs.
     const SWAP: bool = false;
-    /// The lighting of frames without a specular term: [`NoSpecular`] for the
-    /// default format, the general pipeline ([`HostSpecular`]) otherwise.
-    type Diffuse: Lighting;
 }
 
 impl Drawn for Rgb565Le {
     type As = Self;
-    type Diffuse = NoSpecular;
 }
 
 impl Drawn for Rgb565Be {
     type As = Rgb565Le;
     const SWAP: bool = true;
-    type Diffuse = NoSpecular;
 }
 
 impl Drawn for Rgb888 {
     type As = Self;
-    type Diffuse = HostSpecular;
 }
 
 impl Drawn for Gray8 {
     type As = Self;
-    type Diffuse = HostSpecular;
 }
 
 /// Swaps the bytes of `b` in pairs, if `swap`.
@@ -133,23 +134,14 @@ fn swapped(mut b: Vec<u8>, swap: bool) -> Vec<u8> {
 
 /// The arm of [`with_types`] for each pixel format of the registry.
 macro_rules! pick_format {
-    ([$d:expr, $P:ident, $Sp:ident, $swap:ident, $body:expr] $($F:ty),* $(,)?) => {{
+    ([$d:expr, $P:ident, $swap:ident, $body:expr] $($F:ty),* $(,)?) => {{
         let d: &SceneDesc = $d;
         let mut at = 0;
         $(
             if d.format.index() == at {
                 type $P = <$F as Drawn>::As;
                 let $swap = <$F as Drawn>::SWAP;
-                return if d.two_sided {
-                    type $Sp = TwoSided<HostSpecular>;
-                    $body
-                } else if specular_pipeline(d) {
-                    type $Sp = HostSpecular;
-                    $body
-                } else {
-                    type $Sp = <$F as Drawn>::Diffuse;
-                    $body
-                };
+                return $body;
             }
             at += 1;
         )*
@@ -158,12 +150,11 @@ macro_rules! pick_format {
 }
 
 /// Runs `$body` (and returns its value) with `$P` bound to the format the scene's
-/// pixel format is drawn in ([`Drawn`]), `$swap` to whether its bytes are swapped,
-/// and `$Sp` to its lighting type ([`HostSpecular`], or without a specular term
-/// [`Drawn::Diffuse`]).
+/// pixel format is drawn in ([`Drawn`]) and `$swap` to whether its bytes are
+/// swapped.
 macro_rules! with_types {
-    ($d:expr, $P:ident, $Sp:ident, $swap:ident => $body:expr) => {
-        fixshade::for_each_pixel_format!(pick_format[$d, $P, $Sp, $swap, $body])
+    ($d:expr, $P:ident, $swap:ident => $body:expr) => {
+        fixshade::for_each_pixel_format!(pick_format[$d, $P, $swap, $body])
     };
 }
 
@@ -173,7 +164,7 @@ pub fn render(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, Strin
     if ls.desc.shading == ShadingName::RAYCAST {
         return super::raycast::render(ls);
     }
-    with_types!(&ls.desc, P, Sp, swap => render_as::<P, Sp>(ls, strip_rows).map(|r| Render {
+    with_types!(&ls.desc, P, swap => render_as::<P>(ls, strip_rows).map(|r| Render {
         bytes: swapped(r.bytes, swap),
         ..r
     }))
@@ -185,7 +176,7 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
     if ls.desc.shading == ShadingName::RAYCAST {
         return super::raycast::time_frame(ls, runs);
     }
-    with_types!(&ls.desc, P, Sp, _swap => time_as::<P, Sp>(ls, runs))
+    with_types!(&ls.desc, P, _swap => time_as::<P>(ls, runs))
 }
 
 /// A frame's pixels, each with its written flag.
@@ -253,16 +244,13 @@ fn raw_bytes<P: PixelFormat>(color: &[CoveredPixel<P::Raw>]) -> Vec<u8> {
         .collect()
 }
 
-/// The frame of `ls` in `P` with coverage: prepared with `Sp`, drawn whole or in
+/// The frame of `ls` in `P` with coverage, drawn whole or in
 /// strips of `strip_rows` rows.
-fn render_as<P: PixelFormat, Sp: Lighting>(
-    ls: &LoadedScene,
-    strip_rows: Option<u32>,
-) -> Result<Render, String> {
+fn render_as<P: PixelFormat>(ls: &LoadedScene, strip_rows: Option<u32>) -> Result<Render, String> {
     let d = &ls.desc;
     let scene = core_scene(d, &ls.fixed)?;
-    let pipeline = Pipeline::<P, Sp>::new(d)?;
-    let mut cache = vec![XfVertex::default(); Frame::<Covered<P>, Sp>::cache_len(&scene)];
+    let pipeline = Pipeline::<P>::new(d)?;
+    let mut cache = vec![XfVertex::default(); pipeline.cache_len(&scene)];
     let frame = pipeline.prepare(&scene, d.width, d.height, &mut cache)?;
     let rows = strip_rows.unwrap_or(d.height);
     let (color, stats) = bands::<P>(d, rows, pipeline.depth32(), |strip| {
@@ -293,16 +281,13 @@ fn render_as<P: PixelFormat, Sp: Lighting>(
 
 /// One frame timed as [`render_as`] draws it (whole frame, the coverage flag
 /// included: it costs about 1 % of a frame, `examples/bench_table.rs`).
-fn time_as<P: PixelFormat, Sp: Lighting>(
-    ls: &LoadedScene,
-    runs: usize,
-) -> Result<Duration, String> {
+fn time_as<P: PixelFormat>(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
     let d = &ls.desc;
     let scene = core_scene(d, &ls.fixed)?;
     let (w, h) = (d.width, d.height);
     let n = w as usize * h as usize;
-    let pipeline = Pipeline::<P, Sp>::new(d)?;
-    let mut cache = vec![XfVertex::default(); Frame::<Covered<P>, Sp>::cache_len(&scene)];
+    let pipeline = Pipeline::<P>::new(d)?;
+    let mut cache = vec![XfVertex::default(); pipeline.cache_len(&scene)];
     let mut color = vec![CoveredPixel::<P::Raw>::default(); n];
     let (mut depth16, mut depth32) = (Vec::new(), Vec::new());
     if pipeline.depth32() {
@@ -354,11 +339,11 @@ pub fn render_chunked(ls: &LoadedScene, max_vertices: usize, rows: u32) -> Resul
             triangles: c.triangles,
         })
         .collect();
-    with_types!(d, P, Sp, swap => chunked_as::<P, Sp>(d, &meshes, bound, max_vertices, rows)
+    with_types!(d, P, swap => chunked_as::<P>(d, &meshes, bound, max_vertices, rows)
         .map(|b| swapped(b, swap)))
 }
 
-fn chunked_as<P: PixelFormat, Sp: Lighting>(
+fn chunked_as<P: PixelFormat>(
     d: &SceneDesc,
     meshes: &[FixedMesh],
     bound: i32,
@@ -374,9 +359,9 @@ fn chunked_as<P: PixelFormat, Sp: Lighting>(
             Ok(s)
         })
         .collect::<Result<Vec<_>, String>>()?;
-    let pipeline = Pipeline::<P, Sp>::new(d)?;
+    let pipeline = Pipeline::<P>::new(d)?;
     // Two-sided lighting keeps the back colours in a second half of the cache.
-    let sides = if Sp::TWO_SIDED { 2 } else { 1 };
+    let sides = if d.two_sided { 2 } else { 1 };
     let mut cache = vec![XfVertex::default(); sides * max_vertices];
     let (color, _) = bands::<P>(d, rows, pipeline.depth32(), |mut strip| {
         let mut stats = Stats::default();

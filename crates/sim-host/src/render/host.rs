@@ -1,5 +1,6 @@
-//! The divider and the specular model chosen on the command line or in a scene file,
-//! each as one type whose calls forward to the core's variant selected at run time.
+//! The divider, the specular model and two-sided lighting chosen on the command line
+//! or in a scene file, as two types whose calls forward to the core's variant
+//! selected at run time.
 //!
 //! The core takes both as types (`Classic<ShiftAdd<8>>`, `Schlick<Table>`), which a
 //! firmware names once. The simulator offers every divider and specular model on top
@@ -12,10 +13,13 @@
 //! `match`, a jump table) and run the variant's code. The results are exactly the
 //! core variant's; only the host's timing includes the branch. With `exact`
 //! selected, [`HostDivide`]'s `Divide::is_exact` is true, so every stage keeps its
-//! own full-precision division, as with the core's `Exact`: frames lit with
-//! [`HostSpecular`] take `HostDivide` for every divider, `exact` included, and are
-//! bit-identical to the plain types' (frames without the specular term, and
-//! two-sided ones, draw the plain types).
+//! own full-precision division, as with the core's `Exact`: every frame takes
+//! `HostDivide` for every divider, `exact` included, and is bit-identical to the
+//! plain types'. Likewise [`HostSpecular`]'s `Specular::enabled` and
+//! `Specular::two_sided` are the selection's, where the core's `NoSpecular` and
+//! `TwoSided` answer with a constant: frames with and without the specular term,
+//! one-sided and two-sided, share one set of draws, which skips the same code
+//! (the stages ask once per light, vertex, triangle or pixel).
 //!
 //! The selection is per thread and set only by [`with_selection`], which
 //! [`crate::render::dispatch`] wraps around the vertex stage and the draw of a frame.
@@ -33,25 +37,51 @@ use fixshade::specular::Specular;
 
 use crate::scene::desc::{DivideName, SpecularName};
 
-thread_local! {
-    static SELECTED: Cell<(DivideName, SpecularName)> =
-        const { Cell::new((DivideName::EXACT, SpecularName::EXACT)) };
+/// What [`HostDivide`] and [`HostSpecular`] forward to.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Selection {
+    /// The divider.
+    pub divide: DivideName,
+    /// The specular model.
+    pub specular: SpecularName,
+    /// The specular term: off for frames that have none (no specular colour on
+    /// their lights or materials, the exact divider, see
+    /// [`crate::render::specular_pipeline`]), which then skip its code as
+    /// [`fixshade::effects::NoSpecular`] does.
+    pub specular_term: bool,
+    /// Two-sided lighting.
+    pub two_sided: bool,
 }
 
-/// Runs `f` with `divide` and `specular` selected for [`HostDivide`] and
-/// [`HostSpecular`] on this thread, and restores the previous selection after.
-pub fn with_selection<R>(divide: DivideName, specular: SpecularName, f: impl FnOnce() -> R) -> R {
-    struct Restore((DivideName, SpecularName));
+impl Selection {
+    /// The exact divider and model with the specular term, one-sided: the
+    /// selection outside [`with_selection`].
+    pub const EXACT: Selection = Selection {
+        divide: DivideName::EXACT,
+        specular: SpecularName::EXACT,
+        specular_term: true,
+        two_sided: false,
+    };
+}
+
+thread_local! {
+    static SELECTED: Cell<Selection> = const { Cell::new(Selection::EXACT) };
+}
+
+/// Runs `f` with `sel` selected for [`HostDivide`] and [`HostSpecular`] on this
+/// thread, and restores the previous selection after.
+pub fn with_selection<R>(sel: Selection, f: impl FnOnce() -> R) -> R {
+    struct Restore(Selection);
     impl Drop for Restore {
         fn drop(&mut self) {
             SELECTED.with(|s| s.set(self.0));
         }
     }
-    let _restore = Restore(SELECTED.with(|s| s.replace((divide, specular))));
+    let _restore = Restore(SELECTED.with(|s| s.replace(sel)));
     f()
 }
 
-fn selected() -> (DivideName, SpecularName) {
+fn selected() -> Selection {
     SELECTED.with(Cell::get)
 }
 
@@ -124,7 +154,7 @@ macro_rules! host_divide {
             type Recip = HostRecip;
             #[inline]
             fn recip(k: u32) -> HostRecip {
-                at_index!(selected().0.index(), [$(($S, $D))*], D => D::recip(k), in HostRecip)
+                at_index!(selected().divide.index(), [$(($S, $D))*], D => D::recip(k), in HostRecip)
             }
             #[inline]
             fn div(n: i32, r: &HostRecip) -> i32 {
@@ -133,14 +163,14 @@ macro_rules! host_divide {
                 }
             }
             fn max_error(n_max: u32, k_max: u32) -> u32 {
-                at_index!(selected().0.index(), [$(($S, $D))*], D => D::max_error(n_max, k_max))
+                at_index!(selected().divide.index(), [$(($S, $D))*], D => D::max_error(n_max, k_max))
             }
             fn mantissa_bits() -> u32 {
-                at_index!(selected().0.index(), [$(($S, $D))*], D => D::mantissa_bits())
+                at_index!(selected().divide.index(), [$(($S, $D))*], D => D::mantissa_bits())
             }
             #[inline]
             fn is_exact() -> bool {
-                selected().0 == DivideName::EXACT
+                selected().divide == DivideName::EXACT
             }
         }
     };
@@ -185,9 +215,9 @@ macro_rules! host_specular {
         impl Specular for HostSpecular {
             type Params = HostParams;
             fn prepare(n: Q16_16) -> HostParams {
-                let (divide, model) = selected();
+                let Selection { divide, specular, .. } = selected();
                 let models = SpecularName::NAMES.len();
-                let i = model.index() + if divide == DivideName::EXACT { 0 } else { models };
+                let i = specular.index() + if divide == DivideName::EXACT { 0 } else { models };
                 at_index!(i, [$(($S, $Sp))*], Sp => Sp::prepare(n), in HostParams)
             }
             #[inline]
@@ -202,12 +232,21 @@ macro_rules! host_specular {
                     $(HostParams::$S(x) => <$Sp>::eval_wide(x, c),)*
                 }
             }
+            #[inline]
+            fn enabled() -> bool {
+                selected().specular_term
+            }
+            #[inline]
+            fn two_sided() -> bool {
+                selected().two_sided
+            }
         }
     };
 }
 
 /// The specular model selected by [`with_selection`], dividing (Schlick's two) with
-/// the selected divider (see the module docs).
+/// the selected divider, with or without the specular term and lighting one- or
+/// two-sided as selected (see the module docs).
 #[derive(Copy, Clone, Debug, Default)]
 pub struct HostSpecular;
 
@@ -219,12 +258,41 @@ mod tests {
     use crate::scene::desc::Named;
     use fixshade::divide::wide_recip;
 
+    /// The selection of a divider and a model by name, one-sided.
+    fn sel(divide: &str, specular: &str) -> Selection {
+        Selection {
+            divide: DivideName::named(divide),
+            specular: SpecularName::named(specular),
+            ..Selection::EXACT
+        }
+    }
+
+    /// The specular term and two-sided lighting are the selection's, and on and
+    /// one-sided outside it.
+    #[test]
+    fn host_specular_term_and_sides_are_selected() {
+        assert!(HostSpecular::enabled() && !HostSpecular::two_sided());
+        let two = Selection {
+            two_sided: true,
+            ..Selection::EXACT
+        };
+        assert!(with_selection(two, HostSpecular::two_sided));
+        assert!(with_selection(two, HostSpecular::enabled));
+        let diffuse = Selection {
+            specular_term: false,
+            ..Selection::EXACT
+        };
+        assert!(!with_selection(diffuse, HostSpecular::enabled));
+        assert!(!with_selection(diffuse, HostSpecular::two_sided));
+        assert!(HostSpecular::enabled() && !HostSpecular::two_sided());
+    }
+
     /// Every selection gives exactly the core variant's quotients and reciprocals.
     #[test]
     fn host_divide_forwards_to_the_core_variant() {
         macro_rules! check_all {
             ([] $($D:ty),* $(,)?) => {$(
-                with_selection(DivideName::named(<$D>::NAME), SpecularName::EXACT, || {
+                with_selection(sel(<$D>::NAME, "exact"), || {
                     for k in [1u32, 2, 7, 13, 255, 1000, 4096] {
                         for n in [0i32, 1, -1, 255 << 16, -(200 << 16), i32::MAX, i32::MIN] {
                             assert_eq!(
@@ -253,7 +321,7 @@ mod tests {
     fn host_specular_forwards_to_the_core_model() {
         macro_rules! check_all {
             ([$div:expr] $(($name:expr, $Sp:ty)),* $(,)?) => {$(
-                with_selection(DivideName::named($div), SpecularName::named($name), || {
+                with_selection(sel($div, $name), || {
                     for n in [1, 2, 24, 1000] {
                         let (a, b) = (HostSpecular::prepare(Q16_16::from_int(n)), <$Sp>::prepare(Q16_16::from_int(n)));
                         for c in [1, 1 << 20, 1 << 29, (1 << 30) - 7, 1 << 30] {
@@ -267,7 +335,7 @@ mod tests {
         fixshade::for_each_specular!(check_all["exact"]);
         fixshade::for_each_specular!(check_all["shift-add-6"]; fixshade::divide::ShiftAdd<6>);
         // The selection is restored.
-        assert_eq!(selected(), (DivideName::EXACT, SpecularName::EXACT));
+        assert_eq!(selected(), Selection::EXACT);
         assert_eq!(SpecularName::ALL.len(), fixshade::specular::NAMES.len());
     }
 }

@@ -445,7 +445,7 @@ as written (tested in `tests/tests/effects.rs`):
 | effect | rule | result |
 | --- | --- | --- |
 | lighting | no `[[light]]` | unlit (emission + global ambient·k_a) |
-| lighting | k_s = 0 on every material, or no light with a specular colour | diffuse only: `NoSpecular`, no specular code in the vertex stage or per-pixel lighting |
+| lighting | k_s = 0 on every material, or no light with a specular colour | diffuse only: `NoSpecular` (the host skips the same code at run time), no specular code in the vertex stage or per-pixel lighting |
 | shading | unlit | flat (the colour is constant per object) |
 | shading | adaptive without a specular term | Gouraud (no triangle can hold a highlight) |
 | local viewer | no specular term | off (the viewer direction only enters the half vector) |
@@ -457,7 +457,7 @@ as written (tested in `tests/tests/effects.rs`):
 | two-sided lighting | the scene leaves out `two_sided = true` (in `[lighting]`) | off: one-sided lighting, no back colours |
 | two-sided lighting | back faces culled (`cull = \"back\"`) | off (no back face is drawn to show it) |
 | two-sided lighting | unlit and no `[object.back_material]` | off (both sides have the same colour) |
-| two-sided lighting | otherwise | on: `fixshade::effects::TwoSided`, the vertex stage also lights each needed vertex with its normal negated and the back material (the second half of the vertex cache), and back faces take those colours (flat, Gouraud, perspective-correct Gouraud) or light per pixel with the interpolated normal negated (Phong, and the quadratic surface's midpoints); adaptive shading and ray casting do not support it and report an error |
+| two-sided lighting | otherwise | on: `fixshade::effects::TwoSided` (the host selects it at run time), the vertex stage also lights each needed vertex with its normal negated and the back material (the second half of the vertex cache), and back faces take those colours (flat, Gouraud, perspective-correct Gouraud) or light per pixel with the interpolated normal negated (Phong, and the quadratic surface's midpoints); adaptive shading and ray casting do not support it and report an error |
 
 Forced settings (`+NAME`/`-NAME`, NAME: `depth`, `cull`, `specular`, `lighting`, \
 `local-viewer`, `perspective`) win over the rules; `-specular` drops the highlights, \
