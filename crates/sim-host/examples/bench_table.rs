@@ -3,7 +3,16 @@
 //! submitted triangle, and each method's time relative to `classic` and to
 //! `gradient`. The rows are the core's registry: every span method with Gouraud
 //! shading, then the shadings with fills of their own (quadratic, the two Phong
-//! fills, adaptive), run with the scene's shading switched.
+//! fills, adaptive), run with the scene's shading switched, then `bands-16`:
+//! `gradient` drawn by the core's band loop (`render_lines` of
+//! `fixshade::present::linebuf`, what a firmware with a small band buffer runs) in
+//! bands of 16 rows, binned once per frame with a record and a walk per triangle. Its time
+//! includes binning and clearing each band's colour and depth (the other rows'
+//! depth reset is outside the timed part); the band buffer is not copied out. It
+//! draws with the plain `Gradient` (records need the exact setup as a type, see
+//! `SpanMethod::RECORDS`), where the `gradient` row takes the dispatch's
+//! `WithDivide<Gradient, HostDivide>` with the exact divider selected: the same
+//! pixels (the pixel counts are compared).
 //!
 //! The scene of `benches/bench_sphere.rs`: the built-in scene "bench-sphere" with
 //! segments 32×20, 64×40, 128×80 at 320×240 and 640×480. One frame is what the
@@ -35,12 +44,18 @@
 //! are the same, bit for bit (integer arithmetic only). The flag applies to the whole
 //! build, so use a separate `CARGO_TARGET_DIR` to keep the portable build's cache.
 
+use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
 
 use fixshade::fixed::Angle;
-use fixshade::present::eg::CoveredPixel;
-use fixshade::target::Strip;
+use fixshade::present::eg::{Covered, CoveredPixel};
+use fixshade::present::linebuf::{render_lines, LineBufferProvider};
+use fixshade::raster::setup::Record;
+use fixshade::raster::span::Gradient;
+use fixshade::raster::Walk;
+use fixshade::render::BandMemory;
+use fixshade::target::{Rgb565Le, Strip};
 use fixshade_sim::render::dispatch::DepthStrip;
 use fixshade_sim::render::Pipeline;
 use fixshade_sim::scene::builtin;
@@ -50,24 +65,46 @@ use fixshade_sim::scene::load::load;
 
 /// The pipeline of one row: the simulator's dispatch for the scene (Rgb565Le, the
 /// exact specular term of the scene, run-time chosen as `fixshade render` does).
-type Row = Pipeline<fixshade::target::Rgb565Le>;
+type Row = Pipeline<Rgb565Le>;
 
-/// The rows compared, as (name, span method, shading); the first two are the
-/// baselines of the ratio columns: every span method of the core's registry with
-/// Gouraud shading, then every shading mode with a fill of its own (which ignore the
-/// span method), with `gradient`.
-fn methods() -> Vec<(&'static str, SpanName, ShadingName)> {
+/// Rows per band of the `bands-16` row.
+const BAND_ROWS: u32 = 16;
+
+/// The rows compared, as (name, span method, shading, drawn in bands); the first
+/// two are the baselines of the ratio columns: every span method of the core's
+/// registry with Gouraud shading, then every shading mode with a fill of its own
+/// (which ignore the span method), with `gradient`, then `gradient` in bands.
+fn methods() -> Vec<(&'static str, SpanName, ShadingName, bool)> {
     let mut rows: Vec<_> = SpanName::ALL
         .iter()
-        .map(|&(s, name)| (name, s, ShadingName::GOURAUD))
+        .map(|&(s, name)| (name, s, ShadingName::GOURAUD, false))
         .collect();
     rows.extend(
         ShadingName::ALL
             .iter()
             .filter(|(sh, _)| sh.own_fill())
-            .map(|&(sh, name)| (name, SpanName::GRADIENT, sh)),
+            .map(|&(sh, name)| (name, SpanName::GRADIENT, sh, false)),
     );
+    rows.push(("bands-16", SpanName::GRADIENT, ShadingName::GOURAUD, true));
     rows
+}
+
+/// A display fed band by band: one band buffer, drawn and not sent.
+struct Bands {
+    size: (u32, u32),
+    buffer: Vec<CoveredPixel<u16>>,
+}
+
+impl LineBufferProvider for Bands {
+    type Format = Covered<Rgb565Le>;
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+    fn process_lines(&mut self, lines: Range<u32>, render: impl FnOnce(&mut [CoveredPixel<u16>])) {
+        let n = self.size.0 as usize * lines.len();
+        render(&mut self.buffer[..n]);
+        std::hint::black_box(&self.buffer[..n]);
+    }
 }
 
 const SEGMENTS: [(u32, u32); 3] = [(32, 20), (64, 40), (128, 80)];
@@ -155,6 +192,21 @@ fn main() {
             let mut cache = vec![fixshade::render::XfVertex::default(); scene.vertex_count()];
             let mut color = vec![CoveredPixel::<u16>::default(); n];
             let mut depth = vec![0xFFFFu16; n];
+            // The band memory: a record and a walk per triangle.
+            let records = scene
+                .objects
+                .iter()
+                .map(|o| o.mesh.triangles().len())
+                .sum::<usize>();
+            let mut record = vec![Record::EMPTY; records];
+            let mut walk = vec![Walk::EMPTY; records];
+            let mut index = vec![0u16; BandMemory::index_len(records, h, BAND_ROWS, h)];
+            let mut starts = vec![0u32; BandMemory::starts_len(h, BAND_ROWS)];
+            let mut band_depth = vec![0xFFFFu16; w as usize * BAND_ROWS as usize];
+            let mut bands = Bands {
+                size: (w, h),
+                buffer: vec![CoveredPixel::default(); w as usize * BAND_ROWS as usize],
+            };
 
             // times[method][round], pixels[method] summed, triangles per frame.
             let mut times = vec![Vec::with_capacity(frames); m];
@@ -170,11 +222,29 @@ fn main() {
                     let mut fb = Strip::new(&mut color, Some(&mut depth), w, h, 0, h).unwrap();
                     let t = Instant::now();
                     let frame = rows[k].prepare(&scene, w, h, &mut cache).expect("prepare");
-                    let st = std::hint::black_box(
-                        rows[k]
-                            .draw(&frame, DepthStrip::D16(&mut fb))
-                            .expect("draw"),
-                    );
+                    let st = if all[chosen[k]].3 {
+                        let mem = BandMemory::new(&mut record, &mut index, &mut starts)
+                            .with_walks(&mut walk);
+                        let st = rows[k].selected(|| {
+                            render_lines::<Gradient, _, _, _>(
+                                &frame,
+                                BAND_ROWS,
+                                mem,
+                                Some(&mut band_depth[..]),
+                                CoveredPixel::default(),
+                                &mut bands,
+                            )
+                            .expect("draw in bands")
+                        });
+                        assert_eq!(st.rewalked, 0, "every band drawn from the records");
+                        std::hint::black_box(st)
+                    } else {
+                        std::hint::black_box(
+                            rows[k]
+                                .draw(&frame, DepthStrip::D16(&mut fb))
+                                .expect("draw"),
+                        )
+                    };
                     let ns = t.elapsed().as_nanos() as f64;
                     if round >= WARMUP_ROUNDS {
                         times[k].push(ns);
@@ -182,6 +252,14 @@ fn main() {
                         tris = st.triangles;
                     }
                 }
+            }
+            // The bands cover the pixels the whole frame covers.
+            let row = |name: &str| (0..m).find(|&k| all[chosen[k]].0 == name);
+            if let (Some(b), Some(g)) = (row("bands-16"), row(SpanName::GRADIENT.name())) {
+                assert_eq!(
+                    pixels[b], pixels[g],
+                    "bands-16 and gradient cover different pixels"
+                );
             }
             for k in 0..m {
                 let ratio = |base: usize| {

@@ -78,6 +78,14 @@ impl<P: PixelFormat> Pipeline<P> {
         .map_err(|e| e.to_string())
     }
 
+    /// Runs `f` with the pipeline's divider, specular model, specular term and
+    /// sides of lighting selected: to draw a prepared frame by other means than
+    /// [`Pipeline::draw`], such as the core's band loop
+    /// (`fixshade::present::linebuf::render_lines`).
+    pub fn selected<R>(&self, f: impl FnOnce() -> R) -> R {
+        with_selection(self.selection, f)
+    }
+
     /// True if the frames draw into strips with 32-bit depth cells.
     pub fn depth32(&self) -> bool {
         self.draw.depth32()
