@@ -188,6 +188,7 @@ struct EyeLight {
     amb: [i32; 3],
     dif: [i32; 3],
     spec: [i32; 3],
+    /// The light adds a specular term: `spec` is not zero and `S::enabled()`.
     has_spec: bool,
 }
 
@@ -219,6 +220,7 @@ pub struct LightingSetup<S: Specular> {
     directional: usize,
     /// emission + global_ambient·ka, Q16.16.
     base: [i64; 3],
+    /// A local viewer for a specular term (false without one: `S::enabled()`).
     local_viewer: bool,
     spec: S::Params,
 }
@@ -282,7 +284,9 @@ impl<S: Specular> LightingSetup<S> {
                 kind,
                 amb: prod(&light.ambient, &material.ambient),
                 dif: prod(&light.diffuse, &material.diffuse),
-                has_spec: spec.iter().any(|v| *v != 0),
+                // Folded once here: the per-pixel tests read this flag and the
+                // constant `S::ENABLED`, never `S::enabled()`.
+                has_spec: S::enabled() && spec.iter().any(|v| *v != 0),
                 spec,
             });
         }
@@ -297,7 +301,8 @@ impl<S: Specular> LightingSetup<S> {
             lights: out,
             directional,
             base,
-            local_viewer,
+            // Without a specular term the viewer is never needed.
+            local_viewer: local_viewer && S::enabled(),
             spec: S::prepare(n),
         }
     }
@@ -316,7 +321,7 @@ impl<S: Specular> LightingSetup<S> {
     /// assert!(!at(false).needs_position() && at(true).needs_position());
     /// ```
     pub fn needs_position(&self) -> bool {
-        self.directional < self.lights.len() || (S::enabled() && self.local_viewer)
+        self.directional < self.lights.len() || (S::ENABLED && self.local_viewer)
     }
 
     /// The lit colour of a vertex: eye-space position `p` (Q16.16) and unit normal
@@ -340,7 +345,7 @@ impl<S: Specular> LightingSetup<S> {
         let mut acc = self.base;
         // The viewer direction enters the half vector only: without a specular term
         // it is never needed.
-        let view = if S::enabled() && self.local_viewer {
+        let view = if S::ENABLED && self.local_viewer {
             normalize_to_q30([-(p[0] as i64), -(p[1] as i64), -(p[2] as i64)])
                 .unwrap_or([0, 0, ONE_Q30])
         } else {
@@ -442,7 +447,7 @@ impl<S: Specular> LightingSetup<S> {
         for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
             *c += mul_wide(*dif, f) >> 16;
         }
-        if !S::enabled() || !light.has_spec {
+        if !S::ENABLED || !light.has_spec {
             return;
         }
         let Some(h) = h() else { return };
@@ -559,6 +564,7 @@ struct ObjectLight {
     amb: [i32; 3],
     dif: [i32; 3],
     spec: [i32; 3],
+    /// As the eye-space light's (`S::enabled()` folded in).
     has_spec: bool,
 }
 
@@ -706,7 +712,7 @@ impl<S: Specular> LightingSetup<S> {
 impl<S: Specular> ObjectLighting<S> {
     /// Whether [`Self::shade`] reads the position (point lights, a local viewer).
     pub fn needs_position(&self) -> bool {
-        self.directional < self.lights.len() || (S::enabled() && self.eye.is_some())
+        self.directional < self.lights.len() || (S::ENABLED && self.eye.is_some())
     }
 
     /// The lit colour of a mesh vertex: position `p` and normal `n` as the mesh
@@ -731,7 +737,7 @@ impl<S: Specular> ObjectLighting<S> {
     fn shade_unit(&self, p: &Vec3, n: &[Q2_14; 3]) -> [i32; 3] {
         let (n, e) = unit_normal(n, self.zero);
         let mut acc = self.base.map(|b| b as i32);
-        let view = match (&self.eye, S::enabled()) {
+        let view = match (&self.eye, S::ENABLED) {
             (Some(eye), true) => {
                 let d = core::array::from_fn(|k| eye[k] - p[k].to_bits() as i64);
                 normalize_to_q30(d).map(to_q15).unwrap_or(self.view)
@@ -751,7 +757,7 @@ impl<S: Specular> ObjectLighting<S> {
             for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
                 *c += term(*dif, f);
             }
-            if !S::enabled() || !light.has_spec {
+            if !S::ENABLED || !light.has_spec {
                 continue;
             }
             let h = if self.eye.is_some() {
@@ -787,7 +793,7 @@ impl<S: Specular> ObjectLighting<S> {
         let (n, e) = unit_normal(n, self.zero);
         let mut acc = self.base;
         // The viewer direction at this vertex (Q1.15): only a local viewer's varies.
-        let view = match (&self.eye, S::enabled()) {
+        let view = match (&self.eye, S::ENABLED) {
             (Some(eye), true) => {
                 let d = core::array::from_fn(|k| eye[k] - p[k].to_bits() as i64);
                 normalize_to_q30(d).map(to_q15).unwrap_or(self.view)
@@ -808,7 +814,7 @@ impl<S: Specular> ObjectLighting<S> {
             for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
                 *c += scale_q15(*dif, f) as i64;
             }
-            if !S::enabled() || !light.has_spec {
+            if !S::ENABLED || !light.has_spec {
                 continue;
             }
             let h = if self.eye.is_some() {
@@ -844,7 +850,7 @@ impl<S: Specular> ObjectLighting<S> {
             for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
                 *c += mul_wide(*dif, f) >> 16;
             }
-            if !S::enabled() || !light.has_spec {
+            if !S::ENABLED || !light.has_spec {
                 continue;
             }
             if let Some(h) = half15(l, view) {
@@ -1028,7 +1034,7 @@ impl<S: Specular> LightingSetup<S> {
 
     /// Whether some light adds a specular term.
     fn any_specular(&self) -> bool {
-        S::enabled() && self.lights.iter().any(|l| l.has_spec)
+        S::ENABLED && self.lights.iter().any(|l| l.has_spec)
     }
 
     /// Whether both bounds of a triangle are below their limits (Q16.16):

@@ -512,16 +512,19 @@ where
     let width = target.width() as i32;
     // A walk that stopped at most `RESUME_ROWS` rows above: its steppers stepped on
     // to `y_top` (each step exact, so they equal steppers placed there directly).
+    // Only a triangle that begins above the target's rows has one to resume.
     let mut resumed = None;
-    if let Some(w) = walk.get() {
-        let gap = y_top.wrapping_sub(w.row);
-        if w.row != Walk::EMPTY.row && (0..=RESUME_ROWS).contains(&gap) {
-            let (mut long, mut short) = (w.long, w.short);
-            for _ in 0..gap {
-                long.step();
-                short.step();
+    if W::ACTIVE && y_top > first_row(t.1) {
+        if let Some(w) = walk.get() {
+            let gap = y_top.wrapping_sub(w.row);
+            if w.row != Walk::EMPTY.row && (0..=RESUME_ROWS).contains(&gap) {
+                let (mut long, mut short) = (w.long, w.short);
+                for _ in 0..gap {
+                    long.step();
+                    short.step();
+                }
+                resumed = Some((long, w.lower, short));
             }
-            resumed = Some((long, w.lower, short));
         }
     }
     let mut long = match resumed {
@@ -529,25 +532,30 @@ where
         None => EdgeStepper::new(t, b, y_top),
     };
     let mut covered = 0u32;
-    let halves = [
-        ((t, m), y_top, y_mid.min(y_bot), false),
-        ((m, b), y_mid.max(y_top), y_bot, true),
-    ];
-    let mut last = None;
-    for ((top, bottom), ys, ye, lower) in halves {
-        if ys >= ye {
-            continue;
-        }
-        // The resumed short edge serves if it is this half's (the first half
-        // walked here starts at `y_top`, where it was stepped to).
-        let mut short = match resumed {
-            Some((_, l, sh)) if l == lower && ys == y_top => sh,
-            _ => EdgeStepper::new(top, bottom, ys),
+    // The upper half (top to middle vertex) covers rows `[y_top, y_mid)`, the lower
+    // half `[y_mid, y_bot)`; the walk begins in the half of `y_top`.
+    let mut lower = y_mid <= y_top;
+    // The resumed short edge serves if it is that half's (it was stepped to `y_top`).
+    let mut short = match resumed {
+        Some((_, l, sh)) if l == lower => Some(sh),
+        _ => None,
+    };
+    let mut ys = y_top;
+    let short = loop {
+        // One place that places a short edge, with the half's ends as arguments
+        // (placed where the half begins, never ahead of it).
+        let mut sh = match short {
+            Some(sh) => sh,
+            None => {
+                let (top, bottom) = if lower { (m, b) } else { (t, m) };
+                EdgeStepper::new(top, bottom, ys)
+            }
         };
+        let ye = if lower { y_bot } else { y_mid.min(y_bot) };
         let (left, right) = if mid_left {
-            (&mut short, &mut long)
+            (&mut sh, &mut long)
         } else {
-            (&mut long, &mut short)
+            (&mut long, &mut sh)
         };
         for y in ys..ye {
             let x0 = left.q.max(0);
@@ -568,11 +576,15 @@ where
             left.step();
             right.step();
         }
-        if W::ACTIVE {
-            last = Some((short, lower));
+        if lower || y_mid >= y_bot {
+            break sh;
         }
-    }
-    if let Some((short, lower)) = last {
+        lower = true;
+        ys = y_mid;
+        short = None;
+    };
+    // Only a triangle that goes on below the target's rows is walked again.
+    if W::ACTIVE && y_bot < first_row(b.1) {
         walk.put(Walk {
             row: y_bot,
             lower,
@@ -671,6 +683,13 @@ pub struct Walk {
 const _: () = assert!(core::mem::size_of::<Walk>() == 48);
 
 impl Walk {
+    /// Marks the walk as none ([`Walk::EMPTY`]'s row): the next draw places the
+    /// steppers afresh.
+    #[inline(always)]
+    pub(crate) fn forget(&mut self) {
+        self.row = Walk::EMPTY.row;
+    }
+
     /// No walk: the steppers are placed afresh.
     pub const EMPTY: Walk = {
         let e = EdgeStepper {

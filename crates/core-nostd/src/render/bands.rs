@@ -294,7 +294,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         starts[0] = 0;
         let walks = match walks.get_mut(..n) {
             Some(w) => {
-                w.fill(Walk::EMPTY);
+                w.iter_mut().for_each(Walk::forget);
                 w
             }
             None => &mut [],
@@ -344,7 +344,14 @@ impl Binner<'_> {
         let Some(r) = r else { return };
         match self.records.get_mut(self.n) {
             Some(slot) => {
-                *slot = r;
+                // Field by field: each part is copied inline, where the 76-byte
+                // record would go through a `memcpy` call on the chips.
+                slot.xy = r.xy;
+                slot.gx = r.gx;
+                slot.gy = r.gy;
+                slot.a = r.a;
+                slot.mid_left = r.mid_left;
+                slot.unwrapped = r.unwrapped;
                 self.n += 1;
             }
             None => self.full = true,
