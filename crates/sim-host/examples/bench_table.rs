@@ -3,12 +3,17 @@
 //! submitted triangle, and each method's time relative to `classic` and to
 //! `gradient`. The rows are the core's registry: every span method with Gouraud
 //! shading, then the shadings with fills of their own (quadratic, the two Phong
-//! fills, adaptive), run with the scene's shading switched, then `bands-16`:
-//! `gradient` drawn by the core's band loop (`render_lines` of
+//! fills, adaptive), run with the scene's shading switched, then `cleared` and
+//! `bands-16`. `cleared` is `gradient` with the frame's colour and depth cleared
+//! inside the timed part, as a firmware with a whole framebuffer does every frame.
+//! `bands-16` is `gradient` drawn by the core's band loop (`render_lines` of
 //! `fixshade::present::linebuf`, what a firmware with a small band buffer runs) in
 //! bands of 16 rows, binned once per frame with a record and a walk per triangle. Its time
 //! includes binning and clearing each band's colour and depth (the other rows'
-//! depth reset is outside the timed part); the band buffer is not copied out. It
+//! depth reset is outside the timed part); the band buffer is not copied out. The
+//! line after each configuration gives `bands-16` against `cleared` (paired
+//! per round, as the ratio columns): the band loop against the whole frame, both
+//! with their clears. `bands-16` and `cleared`
 //! draws with the plain `Gradient` (records need the exact setup as a type, see
 //! `SpanMethod::RECORDS`), where the `gradient` row takes the dispatch's
 //! `WithDivide<Gradient, HostDivide>` with the exact divider selected: the same
@@ -70,22 +75,45 @@ type Row = Pipeline<Rgb565Le>;
 /// Rows per band of the `bands-16` row.
 const BAND_ROWS: u32 = 16;
 
-/// The rows compared, as (name, span method, shading, drawn in bands); the first
+/// How a row draws its frame.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    /// Into the whole frame, depth reset outside the timed part.
+    Whole,
+    /// Into the whole frame, colour and depth cleared inside the timed part.
+    Cleared,
+    /// Through the core's band loop, in bands of [`BAND_ROWS`] rows.
+    Bands,
+}
+
+/// The rows compared, as (name, span method, shading, layout); the first
 /// two are the baselines of the ratio columns: every span method of the core's
 /// registry with Gouraud shading, then every shading mode with a fill of its own
-/// (which ignore the span method), with `gradient`, then `gradient` in bands.
-fn methods() -> Vec<(&'static str, SpanName, ShadingName, bool)> {
+/// (which ignore the span method), with `gradient`, then `gradient` cleared and in
+/// bands.
+fn methods() -> Vec<(&'static str, SpanName, ShadingName, Layout)> {
     let mut rows: Vec<_> = SpanName::ALL
         .iter()
-        .map(|&(s, name)| (name, s, ShadingName::GOURAUD, false))
+        .map(|&(s, name)| (name, s, ShadingName::GOURAUD, Layout::Whole))
         .collect();
     rows.extend(
         ShadingName::ALL
             .iter()
             .filter(|(sh, _)| sh.own_fill())
-            .map(|&(sh, name)| (name, SpanName::GRADIENT, sh, false)),
+            .map(|&(sh, name)| (name, SpanName::GRADIENT, sh, Layout::Whole)),
     );
-    rows.push(("bands-16", SpanName::GRADIENT, ShadingName::GOURAUD, true));
+    rows.push((
+        "cleared",
+        SpanName::GRADIENT,
+        ShadingName::GOURAUD,
+        Layout::Cleared,
+    ));
+    rows.push((
+        "bands-16",
+        SpanName::GRADIENT,
+        ShadingName::GOURAUD,
+        Layout::Bands,
+    ));
     rows
 }
 
@@ -220,9 +248,13 @@ fn main() {
                     scene.shading = all[chosen[k]].2.core().expect("a raster shading");
                     depth.fill(0xFFFF);
                     let mut fb = Strip::new(&mut color, Some(&mut depth), w, h, 0, h).unwrap();
+                    let layout = all[chosen[k]].3;
                     let t = Instant::now();
+                    if layout == Layout::Cleared {
+                        fb.clear(CoveredPixel::default());
+                    }
                     let frame = rows[k].prepare(&scene, w, h, &mut cache).expect("prepare");
-                    let st = if all[chosen[k]].3 {
+                    let st = if layout == Layout::Bands {
                         let mem = BandMemory::new(&mut record, &mut index, &mut starts)
                             .with_walks(&mut walk);
                         let st = rows[k].selected(|| {
@@ -255,21 +287,25 @@ fn main() {
             }
             // The bands cover the pixels the whole frame covers.
             let row = |name: &str| (0..m).find(|&k| all[chosen[k]].0 == name);
-            if let (Some(b), Some(g)) = (row("bands-16"), row(SpanName::GRADIENT.name())) {
-                assert_eq!(
-                    pixels[b], pixels[g],
-                    "bands-16 and gradient cover different pixels"
-                );
+            for name in ["bands-16", "cleared"] {
+                if let (Some(b), Some(g)) = (row(name), row(SpanName::GRADIENT.name())) {
+                    assert_eq!(
+                        pixels[b], pixels[g],
+                        "{name} and gradient cover different pixels"
+                    );
+                }
             }
+            // Median of the per-round ratios t(k) / t(base).
+            let ratio_of = |k: usize, base: usize| {
+                let mut r: Vec<f64> = times[k]
+                    .iter()
+                    .zip(&times[base])
+                    .map(|(t, b)| t / b)
+                    .collect();
+                median(&mut r)
+            };
             for k in 0..m {
-                let ratio = |base: usize| {
-                    let mut r: Vec<f64> = times[k]
-                        .iter()
-                        .zip(&times[base])
-                        .map(|(t, b)| t / b)
-                        .collect();
-                    median(&mut r)
-                };
+                let ratio = |base: usize| ratio_of(k, base);
                 let t = median(&mut times[k].clone());
                 let px = pixels[k] as f64 / frames as f64;
                 println!(
@@ -284,6 +320,14 @@ fn main() {
                     t / f64::from(tris),
                     ratio(b_classic),
                     ratio(b_gradient)
+                );
+            }
+            if let (Some(b), Some(c)) = (row("bands-16"), row("cleared")) {
+                println!(
+                    "{:<9} {:<8} bands-16 / cleared: {:.3}",
+                    format!("{lon}x{lat}"),
+                    format!("{w}x{h}"),
+                    ratio_of(b, c)
                 );
             }
         }
