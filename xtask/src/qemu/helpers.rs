@@ -153,41 +153,52 @@ pub(super) fn per_frame(
         ));
     }
     let file = std::fs::File::open(&log).map_err(|e| format!("{}: {e}", log.display()))?;
-    // Blocks' sizes from their translations (`IN:` then one `0x…:` line per
-    // instruction), executions from the `Trace` lines.
-    let mut size: HashMap<u32, u64> = HashMap::new();
-    let mut block: Option<u32> = None;
+    let frames = count(BufReader::new(file), &marker);
+    let _ = std::fs::remove_file(&log);
+    frames
+}
+
+/// The helper instructions of each frame in an execution log (`-d
+/// exec,nochain,in_asm`): blocks' sizes from their translations (`IN:` then one
+/// `0x…:` line per instruction), executions from the `Trace` lines, the frames
+/// from the markers at `marker`'s addresses.
+///
+/// A translation is followed by the first execution of its block, whose `Trace`
+/// line names the block by `[cs_base/pc/flags/cflags]`: the size belongs to that
+/// key, not to the address alone. Under `-icount` QEMU also translates shorter
+/// blocks at an address already translated (the instruction budget left before
+/// a timer event is in `cflags`, and an I/O instruction ends a block early);
+/// keyed by address, such a short block's size would then be counted for every
+/// later run of the full one.
+fn count(log: impl BufRead, marker: &HashMap<u32, Marker>) -> Result<Vec<u64>, String> {
+    let mut size: HashMap<String, u64> = HashMap::new();
+    // The size of the block translated last, until its first `Trace` line.
+    let mut pending: Option<u64> = None;
     let (mut on, mut acc, mut frames) = (false, 0u64, Vec::new());
     let mut last: Option<u32> = None;
-    for line in BufReader::new(file).lines() {
+    for line in log.lines() {
         let line = line.map_err(|e| e.to_string())?;
         if line.starts_with("IN:") {
-            block = None;
-        } else if let Some(addr) = line.strip_prefix("0x") {
-            let pc = addr
-                .split(':')
-                .next()
-                .and_then(|a| u32::from_str_radix(a, 16).ok())
-                .ok_or_else(|| format!("bad log line: {line}"))?;
-            let start = match block {
-                Some(s) => s,
-                None => {
-                    // A (re)translation: its size counted afresh.
-                    size.insert(pc, 0);
-                    block = Some(pc);
-                    pc
-                }
-            };
-            *size.entry(start).or_insert(0) += 1;
+            pending = Some(0);
+        } else if line.starts_with("0x") {
+            if let Some(n) = &mut pending {
+                *n += 1;
+            }
         } else if line.starts_with("Trace ") {
-            block = None;
             // `Trace cpu: host [cs_base/pc/flags/cflags] name`
-            let pc = line
+            let key = line
                 .split('[')
                 .nth(1)
-                .and_then(|f| f.split('/').nth(1))
+                .and_then(|f| f.split(']').next())
+                .ok_or_else(|| format!("bad log line: {line}"))?;
+            let pc = key
+                .split('/')
+                .nth(1)
                 .and_then(|a| u32::from_str_radix(a, 16).ok())
                 .ok_or_else(|| format!("bad log line: {line}"))?;
+            if let Some(n) = pending.take() {
+                size.insert(key.to_string(), n);
+            }
             // A block whose run the instruction budget cuts off before its first
             // instruction (an interrupt due there) is traced again when it runs:
             // two traces of a marker in a row are one call (a frame has a measured
@@ -201,14 +212,11 @@ pub(super) fn per_frame(
                 Some(Marker::Frame) => frames.push(std::mem::take(&mut acc)),
                 Some(Marker::Discard) => acc = 0,
                 // The filter logs nothing but helpers and the markers.
-                None if on => acc += size.get(&pc).copied().unwrap_or(0),
+                None if on => acc += size.get(key).copied().unwrap_or(0),
                 None => {}
             }
-        } else if line.trim().is_empty() {
-            block = None;
         }
     }
-    let _ = std::fs::remove_file(&log);
     Ok(frames)
 }
 
@@ -218,4 +226,43 @@ enum Marker {
     Off,
     Frame,
     Discard,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A helper block translated whole (3 instructions) and, at the same address,
+    /// short (1 instruction, a smaller budget in `cflags`): each run counts its
+    /// own block's size.
+    #[test]
+    fn sizes_belong_to_the_translated_block_not_its_address() {
+        let log = "\
+----------------
+IN: mark_on
+0x00000100:  4770       bx       lr
+
+Trace 0: 0x1 [00000000/00000100/00000110/ff020200] mark_on
+----------------
+IN: __aeabi_lmul
+0x00000200:  b510       push     {r4, lr}
+0x00000202:  4343       muls     r3, r0, r3
+0x00000204:  bd10       pop      {r4, pc}
+
+Trace 0: 0x2 [00000000/00000200/00000110/ff020200] __aeabi_lmul
+----------------
+IN: __aeabi_lmul
+0x00000200:  b510       push     {r4, lr}
+
+Trace 0: 0x3 [00000000/00000200/00000110/ff020001] __aeabi_lmul
+Trace 0: 0x2 [00000000/00000200/00000110/ff020200] __aeabi_lmul
+----------------
+IN: mark_frame
+0x00000300:  4770       bx       lr
+
+Trace 0: 0x4 [00000000/00000300/00000110/ff020200] mark_frame
+";
+        let marker = HashMap::from([(0x100, Marker::On), (0x300, Marker::Frame)]);
+        assert_eq!(count(log.as_bytes(), &marker), Ok(vec![3 + 1 + 3]));
+    }
 }
