@@ -37,7 +37,7 @@ pub const ONE_Q30: i32 = 1 << 30;
 /// assert_eq!(mul_wide(-3, 1 << 30), -3 << 30);
 /// ```
 #[inline(always)]
-pub fn mul_wide(a: i32, b: i32) -> i64 {
+pub const fn mul_wide(a: i32, b: i32) -> i64 {
     #[cfg(fixshade_v6m)]
     {
         mul_wide_split(a, b)
@@ -55,7 +55,7 @@ pub fn mul_wide(a: i32, b: i32) -> i64 {
 /// assert_eq!(mul_wide_u(u32::MAX, u32::MAX), (u32::MAX as u64) * (u32::MAX as u64));
 /// ```
 #[inline(always)]
-pub fn mul_wide_u(a: u32, b: u32) -> u64 {
+pub const fn mul_wide_u(a: u32, b: u32) -> u64 {
     #[cfg(fixshade_v6m)]
     {
         mul_wide_u_split(a, b)
@@ -100,7 +100,7 @@ pub(crate) fn mul_wide_16_split(a: i32, b: i16) -> i64 {
 /// 2³² fits `u32`; the middle sum is taken in `i64`.
 #[cfg(any(test, fixshade_v6m))]
 #[inline(always)]
-pub(crate) fn mul_wide_split(a: i32, b: i32) -> i64 {
+pub(crate) const fn mul_wide_split(a: i32, b: i32) -> i64 {
     let (ah, al) = (a >> 16, a & 0xFFFF);
     let (bh, bl) = (b >> 16, b & 0xFFFF);
     let lo = (al as u32).wrapping_mul(bl as u32);
@@ -112,11 +112,56 @@ pub(crate) fn mul_wide_split(a: i32, b: i32) -> i64 {
 /// middle sum is taken in `u64`).
 #[cfg(any(test, fixshade_v6m))]
 #[inline(always)]
-pub(crate) fn mul_wide_u_split(a: u32, b: u32) -> u64 {
+pub(crate) const fn mul_wide_u_split(a: u32, b: u32) -> u64 {
     let (ah, al) = (a >> 16, a & 0xFFFF);
     let (bh, bl) = (b >> 16, b & 0xFFFF);
     let mid = (ah * bl) as u64 + (al * bh) as u64;
     (((ah * bh) as u64) << 32) + (mid << 16) + (al * bl) as u64
+}
+
+/// The exact product of two `i64`, as `i128`: the one multiply on the host and
+/// ARMv7-M; on ARMv6-M (`cfg(fixshade_v6m)`), where an `i128` product of two `i64`
+/// is six `__aeabi_lmul` calls, four 32×32→64 products ([`mul_wide`],
+/// [`mul_wide_u`], 16×16-bit `MULS` there) and the `i128` sum, without a call
+/// (the per-frame matrices: [`Mat4::mul`], [`Mat4::transform_dir`], [`Affine3::new`],
+/// [`normalize_q32`]). Both give the same bits (tested).
+#[inline(always)]
+pub(crate) const fn mul_i64_wide(a: i64, b: i64) -> i128 {
+    #[cfg(fixshade_v6m)]
+    {
+        mul_i64_wide_split(a, b)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        a as i128 * b as i128
+    }
+}
+
+/// [`mul_i64_wide`] from 32×32→64 products: `a·b = ah·bh·2⁶⁴ + (ah·bl + al·bh)·2³²
+/// + al·bl` with `ah`, `bh` the signed high words and `al`, `bl` the unsigned low
+/// words. `|ah·bl|`, `|al·bh|` < 2³¹·2³² fit `i64` ([`mul_su`]); the sum is taken in
+/// `i128`, whose range holds every product of two `i64`.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) const fn mul_i64_wide_split(a: i64, b: i64) -> i128 {
+    let (ah, al) = ((a >> 32) as i32, a as u32);
+    let (bh, bl) = ((b >> 32) as i32, b as u32);
+    let mid = mul_su(ah, bl) as i128 + mul_su(bh, al) as i128;
+    ((mul_wide(ah, bh) as i128) << 64) + (mid << 32) + mul_wide_u(al, bl) as i128
+}
+
+/// The exact product of an `i32` and a `u32`, as `i64` (below 2⁶³ in magnitude):
+/// the product of their bits as unsigned, less `l·2³²` when `h` is negative (its
+/// bits read as unsigned are `h + 2³²`), modulo 2⁶⁴.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+const fn mul_su(h: i32, l: u32) -> i64 {
+    let p = mul_wide_u(h as u32, l) as i64;
+    if h < 0 {
+        p.wrapping_sub(((l as u64) << 32) as i64)
+    } else {
+        p
+    }
 }
 
 /// Leading zero bits of `x` (32 for 0): `CLZ` where the core has it, two halving
@@ -458,7 +503,7 @@ pub const fn isqrt_u64(n: u64) -> u64 {
 
 /// Q.32 product of two Q.32 values (`i128` intermediate; the result saturates).
 const fn mul_q32(a: i64, b: i64) -> i64 {
-    let p = (a as i128 * b as i128 + (1 << 31)) >> 32;
+    let p = (mul_i64_wide(a, b) + (1 << 31)) >> 32;
     if p > i64::MAX as i128 {
         i64::MAX
     } else if p < i64::MIN as i128 {
@@ -636,7 +681,7 @@ impl Mat4 {
             for (j, e) in row.iter_mut().enumerate() {
                 let mut acc: i128 = 0;
                 for k in 0..4 {
-                    acc += self.m[i][k] as i128 * o.m[k][j] as i128;
+                    acc += mul_i64_wide(self.m[i][k], o.m[k][j]);
                 }
                 *e = sat_i128_to_i64((acc + (1 << 31)) >> 32);
             }
@@ -722,7 +767,7 @@ impl Mat4 {
         for row in 0..3 {
             let mut acc: i128 = 0;
             for (i, ei) in e.iter().enumerate() {
-                acc += r.m[row][i] as i128 * *ei as i128;
+                acc += mul_i64_wide(r.m[row][i], *ei);
             }
             r.m[row][3] = sat_i128_to_i64(-((acc + (1 << 31)) >> 32));
         }
@@ -789,7 +834,7 @@ impl Mat4 {
         for (i, out) in r.iter_mut().enumerate() {
             let mut acc: i128 = 0;
             for (k, dk) in d.iter().enumerate() {
-                acc += self.m[i][k] as i128 * *dk as i128;
+                acc += mul_i64_wide(self.m[i][k], *dk);
             }
             *out = sat_i128_to_i64((acc + (1 << 31)) >> 32);
         }
@@ -843,7 +888,7 @@ pub fn cross_q32(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
 /// assert_eq!(normalize_q32([0, 0, 0]), None);
 /// ```
 pub fn normalize_q32(v: [i64; 3]) -> Option<[i64; 3]> {
-    let sq: u128 = v.iter().map(|c| (*c as i128 * *c as i128) as u128).sum();
+    let sq: u128 = v.iter().map(|c| mul_i64_wide(*c, *c) as u128).sum();
     if sq == 0 {
         return None;
     }
@@ -1256,12 +1301,13 @@ impl Affine3 {
         // Cofactors of the Q32.32 linear part: products of two i64 are below 2^126
         // and their difference below 2^127, so i128 holds them.
         let a = |i: usize, j: usize| mat.m[i][j] as i128;
+        let p = |i: usize, j: usize, k: usize, l: usize| mul_i64_wide(mat.m[i][j], mat.m[k][l]);
         let mut cof = [[0i128; 3]; 3];
         for (i, row) in cof.iter_mut().enumerate() {
             for (j, e) in row.iter_mut().enumerate() {
                 let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
                 let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-                *e = (a(i1, j1) * a(i2, j2) - a(i1, j2) * a(i2, j1)) >> 32;
+                *e = (p(i1, j1, i2, j2) - p(i1, j2, i2, j1)) >> 32;
             }
         }
         let det: i128 = (0..3).map(|j| a(0, j) * cof[0][j]).sum();
@@ -1655,6 +1701,37 @@ mod tests {
             let (ua, ub) = (r as u32, (r >> 32) as u32);
             assert_eq!(mul_wide_u_split(ua, ub), ua as u64 * ub as u64);
             assert_eq!(mul_wide_16_split(a, b as i16), a as i64 * (b as i16) as i64);
+        }
+    }
+
+    #[test]
+    fn split_wide_products_equal_native() {
+        let edges = [
+            0,
+            1,
+            -1,
+            i64::MAX,
+            i64::MIN,
+            i64::MIN + 1,
+            1 << 32,
+            -(1 << 32),
+            (1 << 32) - 1,
+            i32::MIN as i64,
+            u32::MAX as i64,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                assert_eq!(mul_i64_wide_split(a, b), a as i128 * b as i128, "{a} {b}");
+            }
+        }
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..300_000 {
+            let r = xorshift(&mut seed);
+            let (a, b) = (
+                r as i64 >> (r >> 58),
+                xorshift(&mut seed) as i64 >> (r & 63),
+            );
+            assert_eq!(mul_i64_wide_split(a, b), a as i128 * b as i128, "{a} {b}");
         }
     }
 
