@@ -7,7 +7,8 @@
 //!   the triangles once; no band re-walks). The same with no band memory (every band
 //!   re-walks) and with too little (it falls back, reported); and with the edge
 //!   walks carried from band to band ([`Binned::draw_band_resuming`]), the bands
-//!   drawn top to bottom, even then odd, and bottom to top.
+//!   drawn top to bottom (from the records alone, [`Binned::into_bins`]), even then
+//!   odd, and bottom to top.
 //! * Two threads drawing alternate bands of one binned frame give the bytes one
 //!   thread gives.
 //! * Every triangle of the triangle catalogue, set up once into a record and drawn
@@ -96,14 +97,21 @@ fn draw_bands<P: PixelFormat>(
 ) -> (Vec<P::Raw>, Vec<u16>, Stats, bool) {
     let mut cache = vec![XfVertex::default(); scene.vertex_count()];
     let frame = Frame::<P>::prepare(scene, w, h, &mut cache).unwrap();
-    let mut binned: Binned<'_, '_, '_, '_, '_, P, _> = frame.bin(rows, mem).unwrap();
+    let binned: Binned<'_, '_, '_, '_, '_, P, _> = frame.bin(rows, mem).unwrap();
     let (mut c, mut d) = (
         vec![P::Raw::default(); (w * h) as usize],
         vec![0u16; (w * h) as usize],
     );
     let mut st = binned.stats();
-    for band in walks.order(binned.bands()) {
-        let r = binned.rows(band);
+    let complete = binned.complete();
+    // Top to bottom, a complete binning draws from its records without the frame.
+    let (mut binned, mut bins) = if walks == Walks::TopToBottom && complete {
+        (None, Some(binned.into_bins().unwrap()))
+    } else {
+        (Some(binned), None)
+    };
+    for band in walks.order(BandMemory::bands(h, rows) as u32) {
+        let r = (band * rows).min(h)..((band + 1) * rows).min(h);
         let span = (r.start * w) as usize..(r.end * w) as usize;
         let mut strip = Strip::<P>::new(
             &mut c[span.clone()],
@@ -115,15 +123,26 @@ fn draw_bands<P: PixelFormat>(
         )
         .unwrap();
         strip.clear(P::pack(1, 2, 3));
-        st += if walks == Walks::None {
-            binned.draw_band::<Gradient, _>(band, &mut strip).unwrap()
+        st += if let Some(bins) = &mut bins {
+            assert_eq!(bins.rows(band), r);
+            bins.draw_band_resuming(band, &mut strip).unwrap()
+        } else if let Some(binned) = &mut binned {
+            assert_eq!(binned.rows(band), r);
+            if walks == Walks::None {
+                binned.draw_band::<Gradient, _>(band, &mut strip).unwrap()
+            } else {
+                binned
+                    .draw_band_resuming::<Gradient, _>(band, &mut strip)
+                    .unwrap()
+            }
         } else {
-            binned
-                .draw_band_resuming::<Gradient, _>(band, &mut strip)
-                .unwrap()
+            unreachable!("either the binned frame or its records")
         };
     }
-    let complete = binned.complete();
+    if let Some(binned) = binned {
+        // The records without the frame exist exactly when the binning is complete.
+        assert_eq!(binned.into_bins().is_some(), complete);
+    }
     (c, d, st, complete)
 }
 

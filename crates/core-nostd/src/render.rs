@@ -59,5 +59,5 @@ mod fills;
 mod frame;
 mod walk;
 
-pub use bands::{BandMemory, Binned};
+pub use bands::{BandMemory, Binned, Bins};
 pub use frame::{Frame, RenderError, Stats, XfVertex, NEEDED, OUTSIDE};

@@ -204,7 +204,7 @@ where
 /// ```
 pub fn render_binned<S, P, L, Sp>(
     binned: &mut Binned<'_, '_, '_, '_, '_, P, Sp>,
-    mut depth: Option<&mut [impl DepthFormat]>,
+    depth: Option<&mut [impl DepthFormat]>,
     background: P::Raw,
     provider: &mut L,
 ) -> Result<Stats, DrawError>
@@ -214,21 +214,84 @@ where
     L: LineBufferProvider<Format = P>,
     Sp: Specular,
 {
+    let mut total = binned.stats();
+    total += render_bands(
+        binned.band_rows(),
+        depth,
+        background,
+        provider,
+        |band, strip| {
+            binned
+                .draw_band_resuming::<S, _>(band, strip)
+                .map_err(DrawError::from)
+        },
+    )?;
+    Ok(total)
+}
+
+/// The band loop itself, for any way of drawing a band: for each band of
+/// `band_rows` rows (0 counts as 1), top to bottom, asks `provider` for its buffer,
+/// makes it a [`Strip`] of the band's rows (depth cells in `depth`, as
+/// [`render_lines`] takes them), clears it to `background` and calls
+/// `draw(band, strip)`; returns the statistics `draw` returned, summed, or the
+/// first error (`draw`'s, or [`DrawError::Buffer`] for a buffer too small).
+/// [`render_binned`] draws each band from a binned frame; a caller with its own
+/// choice of draw (a run-time table of span methods, say) passes it here.
+///
+/// ```
+/// use core::ops::Range;
+/// use fixshade::present::linebuf::render_bands;
+/// use fixshade::prelude::*;
+/// # let scene = fixshade::doc_support::scene();
+/// struct Lines([u16; 64 * 16]);
+/// impl LineBufferProvider for Lines {
+///     type Format = Rgb565Le;
+///     fn size(&self) -> (u32, u32) {
+///         (64, 48)
+///     }
+///     fn process_lines(&mut self, lines: Range<u32>, render: impl FnOnce(&mut [u16])) {
+///         render(&mut self.0[..64 * lines.len()]);
+///     }
+/// }
+/// let mut cache = [XfVertex::default(); 3];
+/// let frame = Frame::<Rgb565Le>::prepare(&scene, 64, 48, &mut cache).unwrap();
+/// let mut depth = [0u16; 64 * 16];
+/// // Every band walks the triangle list again with `Classic`.
+/// let st = render_bands(16, Some(&mut depth), 0, &mut Lines([0; 64 * 16]), |_, strip| {
+///     frame.draw::<Classic, _>(strip).map_err(DrawError::from)
+/// })
+/// .unwrap();
+/// assert_eq!(st.triangles, 3); // one triangle, walked by each of three bands
+/// ```
+pub fn render_bands<P, L, C, E>(
+    band_rows: u32,
+    mut depth: Option<&mut [C]>,
+    background: P::Raw,
+    provider: &mut L,
+    mut draw: impl FnMut(u32, &mut Strip<'_, P, C>) -> Result<Stats, E>,
+) -> Result<Stats, E>
+where
+    P: PixelFormat,
+    L: LineBufferProvider<Format = P>,
+    C: DepthFormat,
+    E: From<DrawError>,
+{
     let (w, h) = provider.size();
     if w == 0 || h == 0 {
-        return Err(DrawError::Buffer(TargetError::BadSize));
+        return Err(DrawError::Buffer(TargetError::BadSize).into());
     }
-    let mut total = binned.stats();
-    for band in 0..binned.bands() {
-        let rows = binned.rows(band);
+    let band_rows = band_rows.max(1);
+    let mut total = Stats::default();
+    for (band, y0) in (0..h).step_by(band_rows as usize).enumerate() {
+        let rows = y0..(y0 + band_rows).min(h);
         let mut result = Ok(Stats::default());
         let depth = depth.as_deref_mut();
         provider.process_lines(rows.clone(), |buf| {
             result = Strip::with_depth_format(buf, depth, w, h, rows.start, rows.len() as u32)
-                .map_err(DrawError::from)
+                .map_err(|e| DrawError::from(e).into())
                 .and_then(|mut strip| {
                     strip.clear(background);
-                    Ok(binned.draw_band_resuming::<S, _>(band, &mut strip)?)
+                    draw(band as u32, &mut strip)
                 });
         });
         total += result?;

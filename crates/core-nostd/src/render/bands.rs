@@ -56,6 +56,7 @@
 //! ```
 
 use crate::arrays;
+use core::marker::PhantomData;
 use core::ops::Range;
 
 use super::frame::{Frame, RenderError, Stats};
@@ -195,14 +196,56 @@ impl<'m> BandMemory<'m> {
 /// ```
 pub struct Binned<'f, 's, 'a, 'c, 'm, P: PixelFormat, Sp: Specular> {
     frame: &'f Frame<'s, 'a, 'c, P, Sp>,
+    /// The records and bins (empty when not `complete`).
+    bins: Bins<'m, P>,
+    complete: bool,
+    stats: Stats,
+}
+
+/// The records and bins of a binned frame without the frame ([`Binned::into_bins`]):
+/// what drawing the bands needs once every triangle is set up. It no longer
+/// borrows the vertex cache, so the cache's memory can hold the band buffers
+/// while the bands are drawn (the RAM of a small board: the larger of the two,
+/// not their sum). Each band is drawn with the constant gradient from the records
+/// ([`span::Gradient`](crate::raster::span::Gradient)'s pixels).
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::raster::setup::Record;
+/// use fixshade::render::BandMemory;
+/// # let scene = fixshade::doc_support::scene();
+/// let (mut records, mut index, mut starts) = ([Record::EMPTY; 4], [0u16; 12], [0u32; 4]);
+/// // One buffer, first the vertex cache, then the band's colour.
+/// let mut cache = [XfVertex::default(); 3];
+/// let bins = {
+///     let frame = Frame::<Rgb565Be>::prepare(&scene, 64, 48, &mut cache).unwrap();
+///     let binned = frame.bin(16, BandMemory::new(&mut records, &mut index, &mut starts)).unwrap();
+///     binned.into_bins().expect("the memory holds every record")
+/// };
+/// // `bins` borrows no vertex cache: a board can reuse the cache's memory now.
+/// cache[0] = XfVertex::default();
+/// let (mut color, mut depth) = ([0u16; 64 * 16], [u16::MAX; 64 * 16]);
+/// let mut pixels = 0;
+/// for band in 0..bins.bands() {
+///     let rows = bins.rows(band);
+///     let mut strip = Strip::new(&mut color, Some(&mut depth), 64, 48, rows.start, 16).unwrap();
+///     strip.clear(0);
+///     pixels += bins.draw_band(band, &mut strip).unwrap().pixels;
+/// }
+/// assert!(pixels > 0);
+/// ```
+pub struct Bins<'m, P: PixelFormat> {
     records: &'m [Record],
     index: &'m [u16],
     starts: &'m [u32],
     /// One per record ([`BandMemory::with_walks`]), or none.
     walks: &'m mut [Walk],
+    width: u32,
+    height: u32,
     band_rows: u32,
-    complete: bool,
-    stats: Stats,
+    depth_test: bool,
+    flat: bool,
+    _format: PhantomData<fn() -> P>,
 }
 
 impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
@@ -301,11 +344,13 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         };
         Ok(Binned {
             frame: self,
-            records,
-            index: &index[..total],
-            starts,
-            walks,
-            band_rows,
+            bins: Bins {
+                records,
+                index: &index[..total],
+                starts,
+                walks,
+                ..self.no_bins(band_rows, flat)
+            },
             complete: true,
             stats: st,
         })
@@ -315,13 +360,25 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     fn unbinned<'f, 'm>(&'f self, band_rows: u32) -> Binned<'f, 's, 'a, 'c, 'm, P, Sp> {
         Binned {
             frame: self,
+            bins: self.no_bins(band_rows, false),
+            complete: false,
+            stats: Stats::default(),
+        }
+    }
+
+    /// Bins of the frame's size and depth test, without records.
+    fn no_bins<'m>(&self, band_rows: u32, flat: bool) -> Bins<'m, P> {
+        Bins {
             records: &[],
             index: &[],
             starts: &[],
             walks: &mut [],
+            width: self.vp.width,
+            height: self.vp.height,
             band_rows,
-            complete: false,
-            stats: Stats::default(),
+            depth_test: self.scene.depth_test,
+            flat,
+            _format: PhantomData,
         }
     }
 }
@@ -410,21 +467,20 @@ fn band_of(y: u32, band_rows: u32) -> u32 {
     }
 }
 
-impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
+impl<'m, P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, 'm, P, Sp> {
     /// Rows per band.
     pub fn band_rows(&self) -> u32 {
-        self.band_rows
+        self.bins.band_rows
     }
 
     /// Number of bands in the frame.
     pub fn bands(&self) -> u32 {
-        band_of(self.frame.vp.height + self.band_rows - 1, self.band_rows)
+        self.bins.bands()
     }
 
     /// The frame rows of band `band`.
     pub fn rows(&self, band: u32) -> Range<u32> {
-        let y0 = (band * self.band_rows).min(self.frame.vp.height);
-        y0..(y0 + self.band_rows).min(self.frame.vp.height)
+        self.bins.rows(band)
     }
 
     /// True if every triangle was set up and binned; false if the memory was too
@@ -437,6 +493,13 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
     /// (once per frame, pixels 0). Zero if it did not bin.
     pub fn stats(&self) -> Stats {
         self.stats
+    }
+
+    /// The records and bins without the frame, when the frame is
+    /// [`complete`](Binned::complete) (`None` otherwise: its bands need the frame
+    /// to re-walk the triangles). See [`Bins`].
+    pub fn into_bins(self) -> Option<Bins<'m, P>> {
+        self.complete.then_some(self.bins)
     }
 
     /// Draws band `band` into `target`, whose rows must lie within the band (and
@@ -464,9 +527,9 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
         band: u32,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
-        let walks = core::mem::take(&mut self.walks);
+        let walks = core::mem::take(&mut self.bins.walks);
         let r = self.draw_band_with::<S, T>(band, target, walks);
-        self.walks = walks;
+        self.bins.walks = walks;
         r
     }
 
@@ -477,8 +540,59 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
         target: &mut T,
         walks: &mut [Walk],
     ) -> Result<Stats, RenderError> {
-        let f = self.frame;
-        if target.width() != f.vp.width || target.frame_height() != f.vp.height {
+        self.bins.check(band, target)?;
+        if !(S::RECORDS && self.complete) {
+            let mut st = self.frame.draw::<S, T>(target)?;
+            st.rewalked = 1;
+            return Ok(st);
+        }
+        self.bins.draw_checked(band, target, walks)
+    }
+}
+
+impl<P: PixelFormat> Bins<'_, P> {
+    /// Rows per band.
+    pub fn band_rows(&self) -> u32 {
+        self.band_rows
+    }
+
+    /// Number of bands in the frame.
+    pub fn bands(&self) -> u32 {
+        band_of(self.height + self.band_rows - 1, self.band_rows)
+    }
+
+    /// The frame rows of band `band`.
+    pub fn rows(&self, band: u32) -> Range<u32> {
+        let y0 = (band * self.band_rows).min(self.height);
+        y0..(y0 + self.band_rows).min(self.height)
+    }
+
+    /// Draws band `band` into `target` from the records, as
+    /// [`Binned::draw_band`] with [`Gradient`](crate::raster::span::Gradient).
+    /// `target`'s rows must lie within the band and its frame size must be the
+    /// frame's ([`RenderError::TargetSizeMismatch`] otherwise).
+    pub fn draw_band<T: Target<P>>(&self, band: u32, target: &mut T) -> Result<Stats, RenderError> {
+        self.check(band, target)?;
+        self.draw_checked(band, target, &mut [])
+    }
+
+    /// [`Bins::draw_band`], resuming each record's edge walk where the band above
+    /// left it, as [`Binned::draw_band_resuming`].
+    pub fn draw_band_resuming<T: Target<P>>(
+        &mut self,
+        band: u32,
+        target: &mut T,
+    ) -> Result<Stats, RenderError> {
+        self.check(band, target)?;
+        let walks = core::mem::take(&mut self.walks);
+        let r = self.draw_checked(band, target, walks);
+        self.walks = walks;
+        r
+    }
+
+    /// Whether `target` is of the frame's size and within band `band`.
+    fn check<T: Target<P>>(&self, band: u32, target: &T) -> Result<(), RenderError> {
+        if target.width() != self.width || target.frame_height() != self.height {
             return Err(RenderError::TargetSizeMismatch);
         }
         let rows = self.rows(band);
@@ -486,17 +600,23 @@ impl<P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, '_, P, Sp> {
         if band >= self.bands() || tr.start < rows.start as i32 || tr.end > rows.end as i32 {
             return Err(RenderError::TargetSizeMismatch);
         }
-        if !(S::RECORDS && self.complete) {
-            let mut st = f.draw::<S, T>(target)?;
-            st.rewalked = 1;
-            return Ok(st);
-        }
-        if f.scene.depth_test && !target.has_depth() {
+        Ok(())
+    }
+
+    /// Band `band`'s records drawn into `target` (checked by [`Bins::check`]),
+    /// resuming their walks from `walks` (one per record, or none).
+    fn draw_checked<T: Target<P>>(
+        &self,
+        band: u32,
+        target: &mut T,
+        walks: &mut [Walk],
+    ) -> Result<Stats, RenderError> {
+        if self.depth_test && !target.has_depth() {
             return Err(RenderError::NoDepthBuffer);
         }
         let list = &self.index
             [self.starts[band as usize] as usize..self.starts[band as usize + 1] as usize];
-        let pixels = match (f.scene.depth_test, f.scene.shading == ShadingMode::Flat) {
+        let pixels = match (self.depth_test, self.flat) {
             (true, false) => self.fill::<DepthTest, Gouraud, T>(list, target, walks),
             (true, true) => self.fill::<DepthTest, Flat, T>(list, target, walks),
             (false, false) => self.fill::<NoDepth, Gouraud, T>(list, target, walks),
