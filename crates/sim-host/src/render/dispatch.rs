@@ -36,7 +36,7 @@ use fixshade::target::{DepthFormat, PixelFormat, Strip};
 
 use super::host::{HostDivide, HostSpecular};
 use crate::scene::convert::threshold_q8;
-use crate::scene::desc::{DivideName, SceneDesc, ShadingName};
+use crate::scene::desc::{DivideName, SceneDesc, ShadingName, SpanName};
 
 /// What a draw takes besides the frame and the target.
 #[derive(Copy, Clone, Debug, Default)]
@@ -83,12 +83,24 @@ enum Fn16or32<P: PixelFormat> {
 pub struct Draw<P: PixelFormat> {
     f: Fn16or32<P>,
     args: Args,
+    /// True if the draw is the core's [`Gradient`] with the exact divider, flat or
+    /// Gouraud, one-sided: a frame of it binned ([`Frame::bin`]) draws its bands
+    /// from the records ([`Draw::records`]).
+    records: bool,
 }
 
 impl<P: PixelFormat> Draw<P> {
     /// True if the draw takes strips with 32-bit depth cells.
     pub fn depth32(&self) -> bool {
         matches!(self.f, Fn16or32::D32(_))
+    }
+
+    /// True if the draw's pixels are those of the core's [`Gradient`] (exact
+    /// divider, flat or Gouraud, one-sided lighting), so that a binned frame can
+    /// draw its bands from records with it
+    /// ([`fixshade::render::Binned::draw_band`]).
+    pub fn records(&self) -> bool {
+        self.records
     }
 
     /// Draws `frame` into `target`, whose depth cells must be the draw's
@@ -241,6 +253,7 @@ fn choose_draw<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P>, String> {
             Fn16or32::D16(f16)
         },
         args,
+        records: false,
     };
     if d.shading == ShadingName::PHONG && d.raycast.sampled {
         let threshold = Threshold::from_q8(threshold_q8(d.raycast.threshold), P::MAX);
@@ -273,9 +286,12 @@ fn choose_draw<P: PixelFormat>(d: &SceneDesc) -> Result<Draw<P>, String> {
     }
     let gouraud = usize::from(d.shading == ShadingName::GOURAUD);
     let i = d.span.index();
-    Ok(draw(
-        spans::<P>()[i][2 * gouraud + depth],
-        spans32::<P>()[i][gouraud],
-        args,
-    ))
+    Ok(Draw {
+        records: d.span == SpanName::GRADIENT && d.divide == DivideName::EXACT && !d.two_sided,
+        ..draw(
+            spans::<P>()[i][2 * gouraud + depth],
+            spans32::<P>()[i][gouraud],
+            args,
+        )
+    })
 }

@@ -7,10 +7,16 @@
 //! its pixels, and the bytes are the plain format's. Rendering, timing and the
 //! chunked render share one compiled pipeline per format.
 
+use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use fixshade::present::eg::{Covered, CoveredPixel};
-use fixshade::render::{Frame, Stats, XfVertex};
+use fixshade::present::linebuf::{render_bands, LineBufferProvider};
+use fixshade::present::DrawError;
+use fixshade::raster::setup::Record;
+use fixshade::raster::span::Gradient;
+use fixshade::raster::Walk;
+use fixshade::render::{BandMemory, Frame, Stats, XfVertex};
 use fixshade::target::{DepthFormat, Gray8, PixelFormat, Rgb565Be, Rgb565Le, Rgb888, Strip};
 
 use super::dispatch::{choose, DepthStrip, Draw};
@@ -84,6 +90,13 @@ impl<P: PixelFormat> Pipeline<P> {
     /// (`fixshade::present::linebuf::render_lines`).
     pub fn selected<R>(&self, f: impl FnOnce() -> R) -> R {
         with_selection(self.selection, f)
+    }
+
+    /// True if the frames draw the pixels of the core's [`Gradient`], so that a
+    /// binned frame can draw its bands from records (see
+    /// [`super::dispatch::Draw::records`]).
+    pub fn records(&self) -> bool {
+        self.draw.records()
     }
 
     /// True if the frames draw into strips with 32-bit depth cells.
@@ -190,20 +203,58 @@ pub fn time_frame(ls: &LoadedScene, runs: usize) -> Result<Duration, String> {
 /// A frame's pixels, each with its written flag.
 type Pixels<P> = Vec<CoveredPixel<<P as PixelFormat>::Raw>>;
 
-/// The frame `d` describes, drawn band by band: `rows` rows at a time into one
-/// [`Covered`] strip cleared to the background, with 32-bit depth cells if
-/// `depth32`, `draw` filling each band; returns the bands' pixels in frame order and
-/// the statistics summed.
+/// The frame `d` describes, drawn band by band by the core's band loop
+/// ([`render_bands`]): `rows` rows at a time into one [`Covered`] strip cleared to
+/// the background, with 32-bit depth cells if `depth32`, `draw(band, strip)`
+/// filling each band; returns the bands' pixels in frame order and the statistics
+/// summed.
 fn bands<P: PixelFormat>(
     d: &SceneDesc,
     rows: u32,
     depth32: bool,
-    mut draw: impl FnMut(DepthStrip<'_, '_, Covered<P>>) -> Result<Stats, String>,
+    mut draw: impl FnMut(u32, DepthStrip<'_, '_, Covered<P>>) -> Result<Stats, String>,
 ) -> Result<(Pixels<P>, Stats), String> {
     if depth32 {
-        bands_with::<P, u32>(d, rows, |s| draw(DepthStrip::D32(s)))
+        bands_with::<P, u32>(d, rows, |b, s| draw(b, DepthStrip::D32(s)))
     } else {
-        bands_with::<P, u16>(d, rows, |s| draw(DepthStrip::D16(s)))
+        bands_with::<P, u16>(d, rows, |b, s| draw(b, DepthStrip::D16(s)))
+    }
+}
+
+/// A frame collected band by band: the display the core's band loop fills.
+struct Collect<P: PixelFormat> {
+    width: u32,
+    height: u32,
+    /// The band buffer lent to the loop.
+    band: Pixels<P>,
+    /// The rows sent so far, in frame order.
+    frame: Pixels<P>,
+}
+
+impl<P: PixelFormat> LineBufferProvider for Collect<P> {
+    type Format = Covered<P>;
+
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    fn process_lines(
+        &mut self,
+        lines: Range<u32>,
+        render: impl FnOnce(&mut [CoveredPixel<P::Raw>]),
+    ) {
+        let n = self.width as usize * lines.len();
+        render(&mut self.band[..n]);
+        self.frame.extend_from_slice(&self.band[..n]);
+    }
+}
+
+/// An error of a band's draw, or of the band loop itself.
+struct BandError(String);
+
+impl From<DrawError> for BandError {
+    fn from(e: DrawError) -> BandError {
+        BandError(e.to_string())
     }
 }
 
@@ -211,7 +262,7 @@ fn bands<P: PixelFormat>(
 fn bands_with<P: PixelFormat, C: DepthFormat>(
     d: &SceneDesc,
     rows: u32,
-    mut draw: impl FnMut(&mut Strip<'_, Covered<P>, C>) -> Result<Stats, String>,
+    mut draw: impl FnMut(u32, &mut Strip<'_, Covered<P>, C>) -> Result<Stats, String>,
 ) -> Result<(Pixels<P>, Stats), String> {
     let (w, h) = (d.width, d.height);
     let rows = rows.clamp(1, h);
@@ -220,28 +271,22 @@ fn bands_with<P: PixelFormat, C: DepthFormat>(
         raw: P::pack(bgc[0], bgc[1], bgc[2]),
         written: false,
     };
-    let mut color = Vec::with_capacity(w as usize * h as usize);
-    let mut band = vec![bg; w as usize * rows as usize];
+    let mut out = Collect::<P> {
+        width: w,
+        height: h,
+        band: vec![bg; w as usize * rows as usize],
+        frame: Vec::with_capacity(w as usize * h as usize),
+    };
     let mut depth = vec![C::FAR; w as usize * rows as usize];
-    let mut stats = Stats::default();
-    let mut y0 = 0;
-    while y0 < h {
-        let hh = rows.min(h - y0);
-        let mut strip = Strip::<Covered<P>, C>::with_depth_format(
-            &mut band,
-            d.depth_test.then_some(&mut depth[..]),
-            w,
-            h,
-            y0,
-            hh,
-        )
-        .map_err(|e| e.to_string())?;
-        strip.clear(bg);
-        stats += draw(&mut strip)?;
-        color.extend_from_slice(strip.color());
-        y0 += hh;
-    }
-    Ok((color, stats))
+    let stats = render_bands(
+        rows,
+        d.depth_test.then_some(&mut depth[..]),
+        bg,
+        &mut out,
+        |band, strip| draw(band, strip).map_err(BandError),
+    )
+    .map_err(|e| e.0)?;
+    Ok((out.frame, stats))
 }
 
 /// The bytes of `P` pixels in memory order.
@@ -261,9 +306,13 @@ fn render_as<P: PixelFormat>(ls: &LoadedScene, strip_rows: Option<u32>) -> Resul
     let mut cache = vec![XfVertex::default(); pipeline.cache_len(&scene)];
     let frame = pipeline.prepare(&scene, d.width, d.height, &mut cache)?;
     let rows = strip_rows.unwrap_or(d.height);
-    let (color, stats) = bands::<P>(d, rows, pipeline.depth32(), |strip| {
-        pipeline.draw(&frame, strip)
-    })?;
+    let (color, stats) = if rows < d.height && pipeline.records() {
+        strips_binned::<P>(d, &scene, &pipeline, &frame, rows)?
+    } else {
+        bands::<P>(d, rows, pipeline.depth32(), |_, strip| {
+            pipeline.draw(&frame, strip)
+        })?
+    };
     let bg8 = background8(d);
     Ok(Render {
         image: Image {
@@ -285,6 +334,43 @@ fn render_as<P: PixelFormat>(ls: &LoadedScene, strip_rows: Option<u32>) -> Resul
         bytes: raw_bytes::<P>(&color),
         stats,
     })
+}
+
+/// Strips of `rows` rows of a frame whose draw has records ([`Pipeline::records`]):
+/// binned once ([`Frame::bin`]), each strip drawn from the records that reach it
+/// with the edge walks carried from strip to strip, as a board draws its bands.
+/// The records are sized for every triangle (clipped into at most seven pieces)
+/// and the bins' index for the bands each reaches, within bounds; a frame that
+/// does not fit re-walks its triangles per strip (the same pixels).
+fn strips_binned<P: PixelFormat>(
+    d: &SceneDesc,
+    scene: &Scene<'_>,
+    pipeline: &Pipeline<P>,
+    frame: &Frame<'_, '_, '_, Covered<P>, HostSpecular>,
+    rows: u32,
+) -> Result<(Pixels<P>, Stats), String> {
+    let triangles: usize = scene.objects.iter().map(|o| o.mesh.triangles().len()).sum();
+    let n = (7 * triangles + 1).min(1 << 16);
+    let per = BandMemory::bands(d.height, rows);
+    let mut records = vec![Record::EMPTY; n];
+    let mut index = vec![0u16; (n * per).min(1 << 22)];
+    let mut starts = vec![0u32; BandMemory::starts_len(d.height, rows)];
+    let mut walks = vec![Walk::EMPTY; n];
+    let mem = BandMemory::new(&mut records, &mut index, &mut starts).with_walks(&mut walks);
+    let mut binned = pipeline
+        .selected(|| frame.bin(rows, mem))
+        .map_err(|e| e.to_string())?;
+    let binning = binned.stats();
+    let (color, mut stats) = bands::<P>(d, rows, pipeline.depth32(), |band, strip| {
+        pipeline
+            .selected(|| match strip {
+                DepthStrip::D16(s) => binned.draw_band_resuming::<Gradient, _>(band, s),
+                DepthStrip::D32(s) => binned.draw_band_resuming::<Gradient, _>(band, s),
+            })
+            .map_err(|e| e.to_string())
+    })?;
+    stats += binning;
+    Ok((color, stats))
 }
 
 /// One frame timed as [`render_as`] draws it (whole frame, the coverage flag
@@ -371,7 +457,7 @@ fn chunked_as<P: PixelFormat>(
     // Two-sided lighting keeps the back colours in a second half of the cache.
     let sides = if d.two_sided { 2 } else { 1 };
     let mut cache = vec![XfVertex::default(); sides * max_vertices];
-    let (color, _) = bands::<P>(d, rows, pipeline.depth32(), |mut strip| {
+    let (color, _) = bands::<P>(d, rows, pipeline.depth32(), |_, mut strip| {
         let mut stats = Stats::default();
         for scene in &scenes {
             let frame = pipeline.prepare(scene, d.width, d.height, &mut cache)?;
@@ -385,7 +471,31 @@ fn chunked_as<P: PixelFormat>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::desc::SpanName;
     use crate::scene::load::load_arg;
+
+    /// Strips of a `gradient` frame are drawn from one binning (each triangle set up
+    /// once, not once per strip), with the whole frame's bytes; strips of another
+    /// span method walk the triangles per strip.
+    #[test]
+    fn gradient_strips_draw_from_one_binning() {
+        let mut ls = load_arg("teapot").unwrap();
+        for (span, binned) in [(SpanName::GRADIENT, true), (SpanName::CLASSIC, false)] {
+            ls.desc.span = span;
+            let whole = render(&ls, None).unwrap();
+            let strips = render(&ls, Some(16)).unwrap();
+            assert!(whole.bytes == strips.bytes, "{span:?}: strips differ");
+            assert_eq!(strips.stats.pixels, whole.stats.pixels);
+            assert_eq!(strips.stats.rewalked, 0);
+            let per_strip = ls.desc.height.div_ceil(16);
+            let triangles = if binned {
+                whole.stats.triangles
+            } else {
+                whole.stats.triangles * per_strip
+            };
+            assert_eq!(strips.stats.triangles, triangles, "{span:?}");
+        }
+    }
 
     /// A frame drawn in the core's `Rgb565Be` has the bytes of the same frame in
     /// `Rgb565Le`, swapped in pairs: what [`Drawn`] relies on.
