@@ -103,6 +103,8 @@ const fn v6m(features: &'static str, bin: &'static str, kind: Kind) -> Image {
 const IMAGES: &[Image] = &[
     m4("", "fixshade-qemu-mps2-an386", Kind::Figures),
     v6m("", "fixshade-qemu-mps2-an386", Kind::Figures),
+    // The bench sphere in 16-row bands with 64 KiB of RAM (`RAM` line checked).
+    v6m("ram64k", "fixshade-mps2-ram64k", Kind::Figures),
     m4("catalogue", "fixshade-mps2-catalogue", Kind::Catalogue),
     m4("ray", "fixshade-mps2-ray", Kind::Ray),
     m4("scenes", "fixshade-mps2-scenes", Kind::Scenes),
@@ -386,6 +388,35 @@ fn cargo_build(
     }
 }
 
+/// The table row of a `RAM board limit statics stack parts…` line, checked: the
+/// statics must be what the ELF places in RAM (`elf_ram`) and statics plus stack
+/// must fit the limit.
+fn ram_budget(rest: &str, elf_ram: u64) -> Result<String, String> {
+    let f: Vec<&str> = rest.splitn(5, ' ').collect();
+    let [board, limit, statics, stack, parts] = f.as_slice() else {
+        return Err(format!("bad line: RAM {rest}"));
+    };
+    let n = |v: &str| {
+        v.parse::<u64>()
+            .map_err(|_| format!("bad line: RAM {rest}"))
+    };
+    let (limit, statics, stack) = (n(limit)?, n(statics)?, n(stack)?);
+    if statics != elf_ram {
+        return Err(format!(
+            "{board}: the image counts {statics} B of statics, its ELF places {elf_ram} B in RAM"
+        ));
+    }
+    if statics + stack > limit {
+        return Err(format!(
+            "{board}: statics {statics} B and stack {stack} B exceed the {limit} B of RAM"
+        ));
+    }
+    Ok(format!(
+        "| {board} | {limit} | {statics} | {stack} | {} | {parts} |",
+        statics + stack
+    ))
+}
+
 /// Runs an image in `out_dir`; returns its console output.
 fn run_qemu(img: &Image, elf: &Path, out_dir: &Path) -> Result<String, String> {
     std::fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
@@ -550,6 +581,7 @@ pub fn qemu() -> Result<(), String> {
     let mut specular_lines = Vec::new();
     let mut sizes = real;
     let mut calibration = Vec::new();
+    let mut ram_lines = Vec::new();
     let mut scenes = HashMap::new();
     let (mut checked, mut mismatched) = (0, Vec::new());
     // Frames of the strip-and-chunk path that differ from the host's whole-frame
@@ -566,12 +598,7 @@ pub fn qemu() -> Result<(), String> {
         .chain(report::IMAGES)
     {
         let dir = root.join("boards").join(img.krate);
-        cargo_build(
-            &dir,
-            Some(img.target),
-            img.features,
-            (img.kind != Kind::Figures).then_some(img.bin),
-        )?;
+        cargo_build(&dir, Some(img.target), img.features, Some(img.bin))?;
         let elf = dir
             .join("target")
             .join(img.target)
@@ -684,6 +711,8 @@ pub fn qemu() -> Result<(), String> {
                 specular_lines.push(line.to_string());
             } else if line.starts_with("CALIBRATE ") || line.starts_with("STACK ") {
                 calibration.push(line.to_string());
+            } else if let Some(rest) = line.strip_prefix("RAM ") {
+                ram_lines.push(ram_budget(rest, ram)?);
             } else if let Some(rest) = line.strip_prefix("LAYOUT ") {
                 let f: Vec<&str> = rest.split_whitespace().collect();
                 if let [_, fig, rows, chunk] = f.as_slice() {
@@ -760,6 +789,19 @@ pub fn qemu() -> Result<(), String> {
     ));
     md.push_str(&ray_table(ray_frames, &ray_rows));
     md.push_str(&crate::scenes::finish(&scene_checked)?);
+    if !ram_lines.is_empty() {
+        md.push_str(
+            "\n## RAM of the low-RAM images\n\n\
+             Each image's statics (`.data` and `.bss`, as linked) and peak stack (painted\n\
+             RAM) against the RAM its linker script gives it, and what the statics hold\n\
+             (bytes; the arena is the vertex cache until the frame is binned, then the\n\
+             band's colour and depth):\n\n\
+             | image | RAM | statics | stack | used | parts |\n| --- | ---: | ---: | ---: | ---: | --- |\n",
+        );
+        for l in &ram_lines {
+            let _ = writeln!(md, "{l}");
+        }
+    }
     mismatched.extend(scene_checked.bad);
     if !layout_differs.is_empty() {
         md.push_str(

@@ -160,11 +160,23 @@ pub fn paint_stack() {
 /// Bytes of stack used at the deepest point since [`paint_stack`], logged as
 /// `STACK board scenes used room` (room: the RAM above the statics); an error when the stack used every painted word
 /// (it reached the statics below it).
-#[allow(unsafe_code)]
 pub fn stack_check(board: &str) -> Result<(), &'static str> {
+    let (used, room) = stack_peak();
+    let _ = writeln!(Console, "STACK {board} scenes {used} {room}");
+    if used >= room {
+        Err("stack overflow: the stack used all the RAM above the statics")
+    } else {
+        Ok(())
+    }
+}
+
+/// Bytes of stack used at the deepest point since [`paint_stack`], and the RAM
+/// above the statics (`used ≥ room`: the stack reached the statics).
+#[allow(unsafe_code)]
+pub fn stack_peak() -> (usize, usize) {
     // SAFETY: reads words between the end of .bss and the top of RAM; only the
     // symbols' addresses are taken.
-    let (used, room) = unsafe {
+    unsafe {
         let top = core::ptr::addr_of_mut!(_stack_start) as usize;
         let bottom = core::ptr::addr_of_mut!(__ebss);
         let mut p = bottom;
@@ -172,11 +184,5 @@ pub fn stack_check(board: &str) -> Result<(), &'static str> {
             p = p.add(1);
         }
         (top - p as usize, top - bottom as usize)
-    };
-    let _ = writeln!(Console, "STACK {board} scenes {used} {room}");
-    if used >= room {
-        Err("stack overflow: the stack used all the RAM above the statics")
-    } else {
-        Ok(())
     }
 }
