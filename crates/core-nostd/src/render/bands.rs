@@ -196,8 +196,12 @@ impl<'m> BandMemory<'m> {
 /// ```
 pub struct Binned<'f, 's, 'a, 'c, 'm, P: PixelFormat, Sp: Specular> {
     frame: &'f Frame<'s, 'a, 'c, P, Sp>,
-    /// The records and bins (empty when not `complete`).
-    bins: Bins<'m, P>,
+    records: &'m [Record],
+    index: &'m [u16],
+    starts: &'m [u32],
+    /// One per record ([`BandMemory::with_walks`]), or none.
+    walks: &'m mut [Walk],
+    band_rows: u32,
     complete: bool,
     stats: Stats,
 }
@@ -344,13 +348,11 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         };
         Ok(Binned {
             frame: self,
-            bins: Bins {
-                records,
-                index: &index[..total],
-                starts,
-                walks,
-                ..self.no_bins(band_rows, flat)
-            },
+            records,
+            index: &index[..total],
+            starts,
+            walks,
+            band_rows,
             complete: true,
             stats: st,
         })
@@ -360,25 +362,13 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     fn unbinned<'f, 'm>(&'f self, band_rows: u32) -> Binned<'f, 's, 'a, 'c, 'm, P, Sp> {
         Binned {
             frame: self,
-            bins: self.no_bins(band_rows, false),
-            complete: false,
-            stats: Stats::default(),
-        }
-    }
-
-    /// Bins of the frame's size and depth test, without records.
-    fn no_bins<'m>(&self, band_rows: u32, flat: bool) -> Bins<'m, P> {
-        Bins {
             records: &[],
             index: &[],
             starts: &[],
             walks: &mut [],
-            width: self.vp.width,
-            height: self.vp.height,
             band_rows,
-            depth_test: self.scene.depth_test,
-            flat,
-            _format: PhantomData,
+            complete: false,
+            stats: Stats::default(),
         }
     }
 }
@@ -470,17 +460,17 @@ fn band_of(y: u32, band_rows: u32) -> u32 {
 impl<'m, P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, 'm, P, Sp> {
     /// Rows per band.
     pub fn band_rows(&self) -> u32 {
-        self.bins.band_rows
+        self.band_rows
     }
 
     /// Number of bands in the frame.
     pub fn bands(&self) -> u32 {
-        self.bins.bands()
+        bands_in(self.frame.vp.height, self.band_rows)
     }
 
     /// The frame rows of band `band`.
     pub fn rows(&self, band: u32) -> Range<u32> {
-        self.bins.rows(band)
+        rows_of(band, self.frame.vp.height, self.band_rows)
     }
 
     /// True if every triangle was set up and binned; false if the memory was too
@@ -499,7 +489,19 @@ impl<'m, P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, 'm, P, Sp> {
     /// [`complete`](Binned::complete) (`None` otherwise: its bands need the frame
     /// to re-walk the triangles). See [`Bins`].
     pub fn into_bins(self) -> Option<Bins<'m, P>> {
-        self.complete.then_some(self.bins)
+        let f = self.frame;
+        self.complete.then_some(Bins {
+            records: self.records,
+            index: self.index,
+            starts: self.starts,
+            walks: self.walks,
+            width: f.vp.width,
+            height: f.vp.height,
+            band_rows: self.band_rows,
+            depth_test: f.scene.depth_test,
+            flat: f.scene.shading == ShadingMode::Flat,
+            _format: PhantomData,
+        })
     }
 
     /// Draws band `band` into `target`, whose rows must lie within the band (and
@@ -527,9 +529,9 @@ impl<'m, P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, 'm, P, Sp> {
         band: u32,
         target: &mut T,
     ) -> Result<Stats, RenderError> {
-        let walks = core::mem::take(&mut self.bins.walks);
+        let walks = core::mem::take(&mut self.walks);
         let r = self.draw_band_with::<S, T>(band, target, walks);
-        self.bins.walks = walks;
+        self.walks = walks;
         r
     }
 
@@ -540,13 +542,17 @@ impl<'m, P: PixelFormat, Sp: Specular> Binned<'_, '_, '_, '_, 'm, P, Sp> {
         target: &mut T,
         walks: &mut [Walk],
     ) -> Result<Stats, RenderError> {
-        self.bins.check(band, target)?;
+        let f = self.frame;
+        check_target(band, (f.vp.width, f.vp.height), self.band_rows, target)?;
         if !(S::RECORDS && self.complete) {
-            let mut st = self.frame.draw::<S, T>(target)?;
+            let mut st = f.draw::<S, T>(target)?;
             st.rewalked = 1;
             return Ok(st);
         }
-        self.bins.draw_checked(band, target, walks)
+        let list = &self.index
+            [self.starts[band as usize] as usize..self.starts[band as usize + 1] as usize];
+        let flat = f.scene.shading == ShadingMode::Flat;
+        draw_records::<P, T>(self.records, list, f.scene.depth_test, flat, target, walks)
     }
 }
 
@@ -558,13 +564,12 @@ impl<P: PixelFormat> Bins<'_, P> {
 
     /// Number of bands in the frame.
     pub fn bands(&self) -> u32 {
-        band_of(self.height + self.band_rows - 1, self.band_rows)
+        bands_in(self.height, self.band_rows)
     }
 
     /// The frame rows of band `band`.
     pub fn rows(&self, band: u32) -> Range<u32> {
-        let y0 = (band * self.band_rows).min(self.height);
-        y0..(y0 + self.band_rows).min(self.height)
+        rows_of(band, self.height, self.band_rows)
     }
 
     /// Draws band `band` into `target` from the records, as
@@ -592,15 +597,7 @@ impl<P: PixelFormat> Bins<'_, P> {
 
     /// Whether `target` is of the frame's size and within band `band`.
     fn check<T: Target<P>>(&self, band: u32, target: &T) -> Result<(), RenderError> {
-        if target.width() != self.width || target.frame_height() != self.height {
-            return Err(RenderError::TargetSizeMismatch);
-        }
-        let rows = self.rows(band);
-        let tr = target.rows();
-        if band >= self.bands() || tr.start < rows.start as i32 || tr.end > rows.end as i32 {
-            return Err(RenderError::TargetSizeMismatch);
-        }
-        Ok(())
+        check_target(band, (self.width, self.height), self.band_rows, target)
     }
 
     /// Band `band`'s records drawn into `target` (checked by [`Bins::check`]),
@@ -611,36 +608,94 @@ impl<P: PixelFormat> Bins<'_, P> {
         target: &mut T,
         walks: &mut [Walk],
     ) -> Result<Stats, RenderError> {
-        if self.depth_test && !target.has_depth() {
-            return Err(RenderError::NoDepthBuffer);
-        }
         let list = &self.index
             [self.starts[band as usize] as usize..self.starts[band as usize + 1] as usize];
-        let pixels = match (self.depth_test, self.flat) {
-            (true, false) => self.fill::<DepthTest, Gouraud, T>(list, target, walks),
-            (true, true) => self.fill::<DepthTest, Flat, T>(list, target, walks),
-            (false, false) => self.fill::<NoDepth, Gouraud, T>(list, target, walks),
-            (false, true) => self.fill::<NoDepth, Flat, T>(list, target, walks),
-        };
-        Ok(Stats {
-            pixels,
-            ..Stats::default()
-        })
+        draw_records::<P, T>(
+            self.records,
+            list,
+            self.depth_test,
+            self.flat,
+            target,
+            walks,
+        )
     }
+}
 
-    /// The records `list` drawn into `target` with the constant gradient, resuming
-    /// their walks from `walks` (one per record, or none).
-    fn fill<Z: DepthMode, Sh: Shading, T: Target<P>>(
-        &self,
-        list: &[u16],
-        target: &mut T,
-        walks: &mut [Walk],
-    ) -> u32 {
-        list.iter()
-            .map(|&i| {
-                let i = i as usize;
-                fill_gradient::<P, T, Z, Sh, _>(target, &self.records[i], walks.get_mut(i))
-            })
-            .sum()
+/// The number of bands of `band_rows` rows in a frame `height` rows tall.
+#[inline(always)]
+fn bands_in(height: u32, band_rows: u32) -> u32 {
+    band_of(height + band_rows - 1, band_rows)
+}
+
+/// The frame rows of band `band`.
+#[inline(always)]
+fn rows_of(band: u32, height: u32, band_rows: u32) -> Range<u32> {
+    let y0 = (band * band_rows).min(height);
+    y0..(y0 + band_rows).min(height)
+}
+
+/// [`RenderError::TargetSizeMismatch`] unless `target` is of the frame's `size`
+/// and its rows lie within band `band` of the frame's bands of `band_rows` rows.
+#[inline(always)]
+fn check_target<P: PixelFormat, T: Target<P>>(
+    band: u32,
+    (width, height): (u32, u32),
+    band_rows: u32,
+    target: &T,
+) -> Result<(), RenderError> {
+    if target.width() != width || target.frame_height() != height {
+        return Err(RenderError::TargetSizeMismatch);
     }
+    let rows = rows_of(band, height, band_rows);
+    let tr = target.rows();
+    if band >= bands_in(height, band_rows)
+        || tr.start < rows.start as i32
+        || tr.end > rows.end as i32
+    {
+        return Err(RenderError::TargetSizeMismatch);
+    }
+    Ok(())
+}
+
+/// The records `records[i]` of `list` drawn into `target` with the constant
+/// gradient (with the depth test when `depth_test`, the last vertex's colour when
+/// `flat`), resuming their walks from `walks` (one per record, or none).
+#[inline(always)]
+fn draw_records<P: PixelFormat, T: Target<P>>(
+    records: &[Record],
+    list: &[u16],
+    depth_test: bool,
+    flat: bool,
+    target: &mut T,
+    walks: &mut [Walk],
+) -> Result<Stats, RenderError> {
+    if depth_test && !target.has_depth() {
+        return Err(RenderError::NoDepthBuffer);
+    }
+    let pixels = match (depth_test, flat) {
+        (true, false) => fill::<P, DepthTest, Gouraud, T>(records, list, target, walks),
+        (true, true) => fill::<P, DepthTest, Flat, T>(records, list, target, walks),
+        (false, false) => fill::<P, NoDepth, Gouraud, T>(records, list, target, walks),
+        (false, true) => fill::<P, NoDepth, Flat, T>(records, list, target, walks),
+    };
+    Ok(Stats {
+        pixels,
+        ..Stats::default()
+    })
+}
+
+/// [`draw_records`] with its depth mode and shading.
+#[inline(always)]
+fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading, T: Target<P>>(
+    records: &[Record],
+    list: &[u16],
+    target: &mut T,
+    walks: &mut [Walk],
+) -> u32 {
+    list.iter()
+        .map(|&i| {
+            let i = i as usize;
+            fill_gradient::<P, T, Z, Sh, _>(target, &records[i], walks.get_mut(i))
+        })
+        .sum()
 }
