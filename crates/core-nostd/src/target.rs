@@ -356,6 +356,24 @@ pub trait Target<P: PixelFormat> {
     /// Colour row `y` (frame coordinates, inside `rows()`) and its depth row (empty
     /// if there is no depth buffer).
     fn row(&mut self, y: i32) -> (&mut [P::Raw], &mut [Self::Depth]);
+    /// All of `rows()` at once, if the target stores them one after another
+    /// (`width()` cells a row, the first row first): the colour cells and the
+    /// depth cells (empty if there is no depth buffer). The rasterizer's row loops
+    /// on the Cortex-M cores then step from row to row instead of asking
+    /// [`Target::row`] for each. The default is `None`: every row through
+    /// [`Target::row`].
+    ///
+    /// ```
+    /// use fixshade::target::{Rgb565Le, Strip, Target};
+    /// let (mut c, mut d) = ([0u16; 12], [0u16; 12]);
+    /// let mut s = Strip::<Rgb565Le>::new(&mut c, Some(&mut d), 3, 8, 4, 4).unwrap();
+    /// let (color, depth) = s.rows_contiguous().unwrap();
+    /// assert_eq!((color.len(), depth.len()), (12, 12)); // rows 4..8, 3 cells each
+    /// ```
+    #[allow(clippy::type_complexity)]
+    fn rows_contiguous(&mut self) -> Option<(&mut [P::Raw], &mut [Self::Depth])> {
+        None
+    }
 }
 
 /// A whole frame in caller-owned buffers.
@@ -459,6 +477,11 @@ impl<P: PixelFormat, D: DepthFormat> Target<P> for Framebuffer<'_, P, D> {
     #[inline]
     fn row(&mut self, y: i32) -> (&mut [P::Raw], &mut [D]) {
         self.strip.row(y)
+    }
+    #[inline]
+    #[allow(clippy::type_complexity)]
+    fn rows_contiguous(&mut self) -> Option<(&mut [P::Raw], &mut [D])> {
+        self.strip.rows_contiguous()
     }
 }
 
@@ -594,6 +617,18 @@ impl<P: PixelFormat, D: DepthFormat> Target<P> for Strip<'_, P, D> {
             None => &mut [],
         };
         (color, depth)
+    }
+    #[inline]
+    #[allow(clippy::type_complexity)]
+    fn rows_contiguous(&mut self) -> Option<(&mut [P::Raw], &mut [D])> {
+        // The constructor checked that both buffers hold `width·h` cells.
+        let n = self.width as usize * self.h as usize;
+        let color = self.color.get_mut(..n)?;
+        let depth = match self.depth.as_deref_mut() {
+            Some(d) => d.get_mut(..n)?,
+            None => &mut [],
+        };
+        Some((color, depth))
     }
 }
 

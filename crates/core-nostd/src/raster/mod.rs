@@ -51,8 +51,8 @@ pub(crate) use vertex::outside_guard;
 pub use vertex::{ScreenVertex, GUARD, SUBPIXEL_BITS};
 
 use crate::divide::Divide;
-use crate::math::mul_wide_u;
 use crate::target::{DepthFormat, PixelFormat, Target};
+use core::ops::Range;
 
 /// Edge crossings of a row, for methods that interpolate between the edges.
 ///
@@ -424,7 +424,11 @@ where
 /// and the increments are unwrapped, the row values are kept packed
 /// ([`pixel::packed_channels`]: linear, so the packed lattice is the lattice packed,
 /// and at covered pixels the lanes hold the channels); otherwise the spans go to
-/// [`span::write_run`].
+/// [`span::write_run`]. On the Cortex-M cores, a whole triangle at least
+/// `asm::ROWS` rows tall in a 5-6-5 target over 16-bit depth whose rows lie one
+/// after another takes the row loop of `asm::packed_565_rows` (the same pixels;
+/// the test leaves the band draws and the smaller triangles as they were
+/// compiled).
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub(crate) fn fill_gradient<P, T, Z, Sh, W>(target: &mut T, s: &setup::Record, walk: W) -> u32
 where
@@ -434,26 +438,70 @@ where
     Sh: Shading,
     W: WalkSlot,
 {
-    if Z::TEST && !target.has_depth() {
-        return fill_gradient::<P, T, NoDepth, Sh, W>(target, s, walk);
+    // On the Cortex-M cores a triangle at least `asm::ROWS` rows tall, drawn whole
+    // (not in bands) into a target of at least as many rows, 5-6-5 over 16-bit
+    // depth and storing its rows one after another, takes the row loop in
+    // assembly (`fill_565_rows`). The height is the vertices' (16 subpixels a
+    // row): the cheapest test, which the small triangles pay.
+    #[cfg(all(any(fixshade_dsp, fixshade_v6m), not(feature = "small-flash")))]
+    if !W::ACTIVE
+        && Z::TEST
+        && Sh::INTERPOLATE
+        && pixel::asm_565::<P>()
+        && s.xy[2].1.wrapping_sub(s.xy[0].1) >= 16 * asm::ROWS
+        && s.unwrapped
+    {
+        let r = target.rows();
+        if r.end.wrapping_sub(r.start) >= asm::ROWS
+            && target.has_depth()
+            && asm::Rows565::of::<P, T>(target).is_some()
+        {
+            return fill_565_rows::<P, T>(target, s);
+        }
     }
+    fill_portable::<P, T, Z, Sh, W>(target, s, walk)
+}
+
+/// The rows of a set-up triangle in the target's rows `rows` (`(y_top, y_mid,
+/// y_bot)`, as [`walk_rows`] takes them) and the lattice values at x = 0 of the
+/// first; `None` if it has no row there.
+#[inline(always)]
+fn first_values(s: &setup::Record, rows: Range<i32>) -> Option<((i32, i32, i32), [i32; ATTRS])> {
     let [t, m, b] = s.xy;
-    let rows = target.rows();
     let y_top = first_row(t.1).max(rows.start);
     let y_bot = first_row(b.1).min(rows.end);
     if y_top >= y_bot {
-        return 0;
+        return None;
     }
     let rows = (y_top, first_row(m.1), y_bot);
     let (gx, gy) = (&s.gx, &s.gy);
     let anchor = s.anchor();
     let dy0 = rows.0.wrapping_sub(anchor.1);
-    // The lattice value at x = 0 of the first row.
     let base: [i32; ATTRS] = arrays::from_fn(|k| {
         s.a[k]
             .wrapping_sub(anchor.0.wrapping_mul(gx[k]))
             .wrapping_add(dy0.wrapping_mul(gy[k]))
     });
+    Some((rows, base))
+}
+
+/// [`fill_gradient`] through [`Target::row`], for every target and format.
+#[inline(always)]
+fn fill_portable<P, T, Z, Sh, W>(target: &mut T, s: &setup::Record, walk: W) -> u32
+where
+    P: PixelFormat,
+    T: Target<P>,
+    Z: DepthMode,
+    Sh: Shading,
+    W: WalkSlot,
+{
+    if Z::TEST && !target.has_depth() {
+        return fill_portable::<P, T, NoDepth, Sh, W>(target, s, walk);
+    }
+    let Some((rows, base)) = first_values(s, target.rows()) else {
+        return 0;
+    };
+    let (gx, gy) = (&s.gx, &s.gy);
     let packed = (
         pixel::packed_channels::<P>(&base),
         pixel::packed_channels::<P>(gx),
@@ -463,13 +511,9 @@ where
         (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
     {
         let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
-        return walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, |span| {
+        return walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, no_half, |span| {
             if let Some((color, depth, x0)) = span {
-                // x0 ≥ 0: x0·pgx modulo 2^64 from 32-bit products (no 64×64 multiply).
-                let x = x0 as u32;
-                let step = mul_wide_u(x, pgx as u32)
-                    .wrapping_add((x.wrapping_mul((pgx >> 32) as u32) as u64) << 32);
-                let c = c_row.wrapping_add(step);
+                let c = pixel::packed_at(c_row, pgx, x0);
                 let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
                 pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx);
             }
@@ -478,7 +522,7 @@ where
         });
     }
     let mut row = base;
-    walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, |span| {
+    walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, no_half, |span| {
         if let Some((color, depth, x0)) = span {
             let v = arrays::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
             pixel::write_run::<P, Z, Sh>(color, depth, v, gx);
@@ -489,12 +533,60 @@ where
     })
 }
 
+/// [`fill_gradient`] of a whole triangle (no walk kept) with the packed values and
+/// the row loop of `asm::packed_565_rows` for each half: a 5-6-5 target over
+/// 16-bit depth cells that stores its rows one after another (the caller checked
+/// that [`asm::Rows565::of`] finds them). Not inlined: one copy per target type.
+#[cfg(all(any(fixshade_dsp, fixshade_v6m), not(feature = "small-flash")))]
+#[inline(never)]
+fn fill_565_rows<P: PixelFormat, T: Target<P>>(target: &mut T, s: &setup::Record) -> u32 {
+    let Some((rows, base)) = first_values(s, target.rows()) else {
+        return 0;
+    };
+    // A 5-6-5 format's lanes fit: the packed values exist.
+    let (Some(c_row), Some(pgx), Some(pgy)) = (
+        pixel::packed_channels::<P>(&base),
+        pixel::packed_channels::<P>(&s.gx),
+        pixel::packed_channels::<P>(&s.gy),
+    ) else {
+        return 0;
+    };
+    let mut p = pixel::PackedRows {
+        c_row,
+        pgx,
+        pgy,
+        z_row: base[3],
+        gzx: s.gx[3],
+        gzy: s.gy[3],
+    };
+    let half = |target: &mut T, l: &mut EdgeStepper, r: &mut EdgeStepper, ys| {
+        let mut buf = asm::Rows565::of::<P, T>(target)?;
+        Some(if pixel::swapped_565::<P>() {
+            asm::packed_565_rows::<true>(&mut buf, &mut p, l, r, ys)
+        } else {
+            asm::packed_565_rows::<false>(&mut buf, &mut p, l, r, ys)
+        })
+    };
+    // `half` finds the rows (the caller checked), so `row` is not called.
+    walk_rows::<P, T, pixel::DepthTest, ()>(target, s.xy, s.mid_left, rows, (), half, |_| {})
+}
+
+/// No half drawn by [`walk_rows`]'s `half`: every row through `row`.
+#[inline(always)]
+fn no_half<T>(_: &mut T, _: &mut EdgeStepper, _: &mut EdgeStepper, _: Range<i32>) -> Option<u32> {
+    None
+}
+
 /// The edge walk of [`fill_gradient`]: for each row of `rows` (from [`row_range`]),
 /// `row(Some((colour, depth, x0)))` with the row's covered pixels `[x0, x1)` clipped
 /// to the target (depth empty unless `Z::TEST`), or `row(None)` for a row with none:
-/// `row` draws the span and moves its values on to the next row. Returns the pixels
-/// covered. With `walk`, the walk resumes where it stopped if that was at most
-/// `RESUME_ROWS` rows above `y_top`, and stores where it stops.
+/// `row` draws the span and moves its values on to the next row. A half of the
+/// triangle (the rows `ys` between the edges `left` and `right`) goes first to
+/// `half(target, left, right, ys)`, which may draw it instead (stepping both edges
+/// past it and returning the pixels covered; `row` is then not called for those
+/// rows) or return `None` ([`no_half`]). Returns the pixels covered. With `walk`,
+/// the walk resumes where it stopped if that was at most `RESUME_ROWS` rows above
+/// `y_top`, and stores where it stops.
 #[inline(always)]
 fn walk_rows<P, T, Z, W: WalkSlot>(
     target: &mut T,
@@ -502,6 +594,7 @@ fn walk_rows<P, T, Z, W: WalkSlot>(
     mid_left: bool,
     (y_top, y_mid, y_bot): (i32, i32, i32),
     mut walk: W,
+    mut half: impl FnMut(&mut T, &mut EdgeStepper, &mut EdgeStepper, Range<i32>) -> Option<u32>,
     mut row: impl FnMut(Option<(&mut [P::Raw], &mut [T::Depth], i32)>),
 ) -> u32
 where
@@ -557,24 +650,28 @@ where
         } else {
             (&mut long, &mut sh)
         };
-        for y in ys..ye {
-            let x0 = left.q.max(0);
-            let x1 = right.q.min(width);
-            if x0 < x1 {
-                let (crow, drow) = target.row(y);
-                let (a, e) = (x0 as usize, x1 as usize);
-                let depth = if Z::TEST {
-                    &mut drow[a..e]
+        if let Some(n) = half(target, left, right, ys..ye) {
+            covered += n;
+        } else {
+            for y in ys..ye {
+                let x0 = left.q.max(0);
+                let x1 = right.q.min(width);
+                if x0 < x1 {
+                    let (crow, drow) = target.row(y);
+                    let (a, e) = (x0 as usize, x1 as usize);
+                    let depth = if Z::TEST {
+                        &mut drow[a..e]
+                    } else {
+                        &mut drow[..0]
+                    };
+                    row(Some((&mut crow[a..e], depth, x0)));
+                    covered += (x1 - x0) as u32;
                 } else {
-                    &mut drow[..0]
-                };
-                row(Some((&mut crow[a..e], depth, x0)));
-                covered += (x1 - x0) as u32;
-            } else {
-                row(None);
+                    row(None);
+                }
+                left.step();
+                right.step();
             }
-            left.step();
-            right.step();
         }
         if lower || y_mid >= y_bot {
             break sh;
@@ -593,6 +690,29 @@ where
         });
     }
     covered
+}
+
+/// The rows `ys` of a half of a triangle between the edges `left` and `right`:
+/// `row(y, Some((x0, x1)))` with the row's covered pixels `[x0, x1)` clipped to
+/// `[0, width)`, or `row(y, None)` for a row with none; both edges step on after
+/// each row (the row loop of [`walk_rows`], for a loop that finds the rows' cells
+/// itself).
+#[cfg(all(fixshade_v6m, not(feature = "small-flash")))]
+#[inline(always)]
+pub(crate) fn each_row(
+    left: &mut EdgeStepper,
+    right: &mut EdgeStepper,
+    ys: Range<i32>,
+    width: i32,
+    mut row: impl FnMut(i32, Option<(i32, i32)>),
+) {
+    for y in ys {
+        let x0 = left.q.max(0);
+        let x1 = right.q.min(width);
+        row(y, if x0 < x1 { Some((x0, x1)) } else { None });
+        left.step();
+        right.step();
+    }
 }
 
 /// Where [`walk_rows`] keeps a [`Walk`]: nowhere (`()`, the whole-frame draws:
@@ -722,7 +842,7 @@ impl Walk {
 /// assert_eq!(row_range(&s, 20..30), None);
 /// ```
 #[inline]
-pub fn row_range(s: &Setup, rows: core::ops::Range<i32>) -> Option<(i32, i32, i32)> {
+pub fn row_range(s: &Setup, rows: Range<i32>) -> Option<(i32, i32, i32)> {
     let [t, m, b] = s.v;
     let y_top = first_row(t.y).max(rows.start);
     let y_bot = first_row(b.y).min(rows.end);

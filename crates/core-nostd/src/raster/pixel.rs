@@ -5,6 +5,7 @@
 
 use super::setup::ATTRS;
 use super::shading::Shading;
+use crate::math::mul_wide_u;
 use crate::target::{DepthFormat, PixelFormat};
 
 /// Depth handling, chosen once per draw call.
@@ -229,6 +230,64 @@ pub(crate) fn packed_channels<P: PixelFormat>(v: &[i32; ATTRS]) -> Option<u64> {
     Some(p)
 }
 
+/// The packed values of a triangle's rows ([`packed_channels`]): the packed
+/// colour and the depth at x = 0 of the current row, their steps along a row
+/// (`pgx`, `gzx`) and from row to row (`pgy`, `gzy`), all wrapping.
+#[cfg(all(any(fixshade_dsp, fixshade_v6m), not(feature = "small-flash")))]
+#[derive(Copy, Clone)]
+pub(crate) struct PackedRows {
+    pub(crate) c_row: u64,
+    pub(crate) pgx: u64,
+    pub(crate) pgy: u64,
+    pub(crate) z_row: i32,
+    pub(crate) gzx: i32,
+    pub(crate) gzy: i32,
+}
+
+#[cfg(all(fixshade_v6m, not(feature = "small-flash")))]
+impl PackedRows {
+    /// The packed colour and the depth at pixel `x0 ≥ 0` of the current row.
+    #[inline(always)]
+    pub(crate) fn at(&self, x0: i32) -> (u64, i32) {
+        (
+            packed_at(self.c_row, self.pgx, x0),
+            self.z_row.wrapping_add(x0.wrapping_mul(self.gzx)),
+        )
+    }
+
+    /// Moves on to the next row.
+    #[inline(always)]
+    pub(crate) fn next_row(&mut self) {
+        self.c_row = self.c_row.wrapping_add(self.pgy);
+        self.z_row = self.z_row.wrapping_add(self.gzy);
+    }
+}
+
+/// The packed value `c + x0·dc` (modulo 2⁶⁴) at pixel `x0 ≥ 0` of a row whose
+/// value at x = 0 is `c`: from 32-bit products (no 64×64 multiply).
+#[inline(always)]
+pub(crate) fn packed_at(c: u64, dc: u64, x0: i32) -> u64 {
+    let x = x0 as u32;
+    let step =
+        mul_wide_u(x, dc as u32).wrapping_add((x.wrapping_mul((dc >> 32) as u32) as u64) << 32);
+    c.wrapping_add(step)
+}
+
+/// Whether the span loops in assembly (`super::asm`) draw the format: a 5-6-5
+/// format whose packed lanes put red at bit 43 and green at bit 21.
+#[cfg(any(fixshade_dsp, fixshade_v6m))]
+pub(crate) const fn asm_565<P: PixelFormat>() -> bool {
+    crate::target::is_565::<P>() && Packed::<P>::OFF[0] == 43 && Packed::<P>::OFF[1] == 21
+}
+
+/// For a 5-6-5 format: whether it stores the 5-6-5 value byte-swapped
+/// (`Rgb565Be`; `Rgb565Le` stores it as it is).
+#[cfg(any(fixshade_dsp, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn swapped_565<P: PixelFormat>() -> bool {
+    P::bytes(P::pack(0, 0, 1))[0] != 1
+}
+
 /// The pixel stage of a packed span ([`packed_channels`]): `color.len()` pixels from
 /// the packed colour `c` and depth `z`, stepping by `dc` and `dz` per pixel. The
 /// caller guarantees that every channel of every pixel lies in its lane (true at
@@ -245,15 +304,9 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
     // On the Cortex-M cores the 5-6-5 formats over 16-bit depth take the loop in
     // assembly (see `super::asm`): the same pixels in fewer instructions.
     #[cfg(any(fixshade_dsp, fixshade_v6m))]
-    if Z::TEST
-        && crate::target::is_565::<P>()
-        && Packed::<P>::OFF[0] == 43
-        && Packed::<P>::OFF[1] == 21
-    {
+    if Z::TEST && asm_565::<P>() {
         if let (Some(cr), Some(dr)) = (P::as_u16(&mut *color), DepthFormat::as_u16(&mut *depth)) {
-            // Rgb565Le stores the 5-6-5 value as it is, Rgb565Be byte-swapped.
-            let swap = P::bytes(P::pack(0, 0, 1))[0] != 1;
-            super::asm::packed_565_span(cr, dr, c, dc, z, dz, swap);
+            super::asm::packed_565_span(cr, dr, c, dc, z, dz, swapped_565::<P>());
             return;
         }
     }
