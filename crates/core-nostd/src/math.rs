@@ -1625,6 +1625,17 @@ pub fn pow_q30(c: i32, n: Q16_16) -> i32 {
     exp2_q30(t) as i32
 }
 
+/// `c + x0·dc` modulo 2⁶⁴ for `x0 ≥ 0` (a packed value at pixel `x0` of a row whose
+/// value at x = 0 is `c`, see `raster::pixel`): from 32-bit products (no 64×64
+/// multiply).
+#[inline(always)]
+pub(crate) fn packed_at(c: u64, dc: u64, x0: i32) -> u64 {
+    let x = x0 as u32;
+    let step =
+        mul_wide_u(x, dc as u32).wrapping_add((x.wrapping_mul((dc >> 32) as u32) as u64) << 32);
+    c.wrapping_add(step)
+}
+
 #[cfg(test)]
 mod tests {
     extern crate std;

@@ -33,8 +33,6 @@
 #[cfg(not(feature = "small-flash"))]
 use super::edge::EdgeStepper;
 #[cfg(not(feature = "small-flash"))]
-use super::pixel::PackedRows;
-#[cfg(not(feature = "small-flash"))]
 use crate::target::{DepthFormat, PixelFormat, Target};
 #[cfg(not(feature = "small-flash"))]
 use core::ops::Range;
@@ -70,6 +68,62 @@ macro_rules! thumb2_span {
             "bne 2b",
         )
     };
+}
+
+/// The packed values of a triangle's rows (`pixel::packed_channels`): the packed
+/// colour and the depth at x = 0 of the current row, their steps along a row
+/// (`pgx`, `gzx`) and from row to row (`pgy`, `gzy`), all wrapping.
+#[cfg(all(any(fixshade_dsp, fixshade_v6m), not(feature = "small-flash")))]
+#[derive(Copy, Clone)]
+pub(crate) struct PackedRows {
+    pub(crate) c_row: u64,
+    pub(crate) pgx: u64,
+    pub(crate) pgy: u64,
+    pub(crate) z_row: i32,
+    pub(crate) gzx: i32,
+    pub(crate) gzy: i32,
+}
+
+#[cfg(all(fixshade_v6m, not(feature = "small-flash")))]
+impl PackedRows {
+    /// The packed colour and the depth at pixel `x0 ≥ 0` of the current row.
+    #[inline(always)]
+    pub(crate) fn at(&self, x0: i32) -> (u64, i32) {
+        (
+            crate::math::packed_at(self.c_row, self.pgx, x0),
+            self.z_row.wrapping_add(x0.wrapping_mul(self.gzx)),
+        )
+    }
+
+    /// Moves on to the next row.
+    #[inline(always)]
+    pub(crate) fn next_row(&mut self) {
+        self.c_row = self.c_row.wrapping_add(self.pgy);
+        self.z_row = self.z_row.wrapping_add(self.gzy);
+    }
+}
+
+/// The rows `ys` of a half of a triangle between the edges `left` and `right`:
+/// `row(y, Some((x0, x1)))` with the row's covered pixels `[x0, x1)` clipped to
+/// `[0, width)`, or `row(y, None)` for a row with none; both edges step on after
+/// each row (the row loop of `walk_rows`, for a loop that finds the rows' cells
+/// itself).
+#[cfg(all(fixshade_v6m, not(feature = "small-flash")))]
+#[inline(always)]
+pub(crate) fn each_row(
+    left: &mut EdgeStepper,
+    right: &mut EdgeStepper,
+    ys: Range<i32>,
+    width: i32,
+    mut row: impl FnMut(i32, Option<(i32, i32)>),
+) {
+    for y in ys {
+        let x0 = left.q.max(0);
+        let x1 = right.q.min(width);
+        row(y, if x0 < x1 { Some((x0, x1)) } else { None });
+        left.step();
+        right.step();
+    }
 }
 
 /// The rows' first `n = min(color.len(), depth.len())` pixels as the packed loop
@@ -155,7 +209,7 @@ impl<'b> Rows565<'b> {
 }
 
 /// The rows `ys` (inside the target's rows) of a half of a triangle between the
-/// edges `left` and `right` ([`super::each_row`]), each span drawn by the packed
+/// edges `left` and `right` ([`each_row`]), each span drawn by the packed
 /// loop from the values `p` (moved on by a row per row, as the portable fill
 /// does); `SWAP` as [`packed_565_span`]'s `swap`. Returns the pixels covered.
 ///
@@ -178,7 +232,7 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
     let mut at = (ys.start.wrapping_sub(buf.y0) as usize).wrapping_mul(w);
     let mut q = *p;
     let mut covered = 0u32;
-    super::each_row(left, right, ys, buf.width, |_, cover| {
+    each_row(left, right, ys, buf.width, |_, cover| {
         if let Some((x0, x1)) = cover {
             let (a, e) = (at + x0 as usize, at + x1 as usize);
             if let (Some(cr), Some(dr)) = (buf.color.get_mut(a..e), buf.depth.get_mut(a..e)) {
@@ -195,7 +249,7 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
 }
 
 /// The rows `ys` of a half of a triangle between the edges `left` and `right`,
-/// drawn from the packed values `p` (see [`super::each_row`] and
+/// drawn from the packed values `p` (see [`each_row`] and
 /// [`PackedRows`]: the same rows, spans and pixels as the portable fill), with
 /// the whole row loop in assembly; `SWAP` as [`packed_565_span`]'s `swap`.
 /// Returns the pixels covered.
@@ -206,7 +260,7 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
 /// - `x0 = max(left.q, 0)`, `x1 = min(right.q, width)`; a row without pixels
 ///   goes straight to the steps;
 /// - the span's colour `c_row + x0·pgx` (an `UMLAL` for the low word of `pgx`,
-///   an `MLA` for the high word, modulo 2⁶⁴ as `pixel::packed_at`), its depth
+///   an `MLA` for the high word, modulo 2⁶⁴ as `math::packed_at`), its depth
 ///   `z_row + x0·gzx`, the two rows' ends, the index `−n`, then the span loop;
 /// - `c_row += pgy`, `z_row += gzy`; each edge steps as [`EdgeStepper::step`]
 ///   (`q += a; r −= b`; a negative `r` takes `d` back and `q` one more); both

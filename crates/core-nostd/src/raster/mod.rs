@@ -513,7 +513,7 @@ where
         let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
         return walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, no_half, |span| {
             if let Some((color, depth, x0)) = span {
-                let c = pixel::packed_at(c_row, pgx, x0);
+                let c = crate::math::packed_at(c_row, pgx, x0);
                 let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
                 pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx);
             }
@@ -551,7 +551,7 @@ fn fill_565_rows<P: PixelFormat, T: Target<P>>(target: &mut T, s: &setup::Record
     ) else {
         return 0;
     };
-    let mut p = pixel::PackedRows {
+    let mut p = asm::PackedRows {
         c_row,
         pgx,
         pgy,
@@ -690,29 +690,6 @@ where
         });
     }
     covered
-}
-
-/// The rows `ys` of a half of a triangle between the edges `left` and `right`:
-/// `row(y, Some((x0, x1)))` with the row's covered pixels `[x0, x1)` clipped to
-/// `[0, width)`, or `row(y, None)` for a row with none; both edges step on after
-/// each row (the row loop of [`walk_rows`], for a loop that finds the rows' cells
-/// itself).
-#[cfg(all(fixshade_v6m, not(feature = "small-flash")))]
-#[inline(always)]
-pub(crate) fn each_row(
-    left: &mut EdgeStepper,
-    right: &mut EdgeStepper,
-    ys: Range<i32>,
-    width: i32,
-    mut row: impl FnMut(i32, Option<(i32, i32)>),
-) {
-    for y in ys {
-        let x0 = left.q.max(0);
-        let x1 = right.q.min(width);
-        row(y, if x0 < x1 { Some((x0, x1)) } else { None });
-        left.step();
-        right.step();
-    }
 }
 
 /// Where [`walk_rows`] keeps a [`Walk`]: nowhere (`()`, the whole-frame draws:

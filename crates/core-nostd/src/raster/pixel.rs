@@ -5,7 +5,6 @@
 
 use super::setup::ATTRS;
 use super::shading::Shading;
-use crate::math::mul_wide_u;
 use crate::target::{DepthFormat, PixelFormat};
 
 /// Depth handling, chosen once per draw call.
@@ -228,49 +227,6 @@ pub(crate) fn packed_channels<P: PixelFormat>(v: &[i32; ATTRS]) -> Option<u64> {
         p = p.wrapping_add((*c as i64 as u64) << off);
     }
     Some(p)
-}
-
-/// The packed values of a triangle's rows ([`packed_channels`]): the packed
-/// colour and the depth at x = 0 of the current row, their steps along a row
-/// (`pgx`, `gzx`) and from row to row (`pgy`, `gzy`), all wrapping.
-#[cfg(all(any(fixshade_dsp, fixshade_v6m), not(feature = "small-flash")))]
-#[derive(Copy, Clone)]
-pub(crate) struct PackedRows {
-    pub(crate) c_row: u64,
-    pub(crate) pgx: u64,
-    pub(crate) pgy: u64,
-    pub(crate) z_row: i32,
-    pub(crate) gzx: i32,
-    pub(crate) gzy: i32,
-}
-
-#[cfg(all(fixshade_v6m, not(feature = "small-flash")))]
-impl PackedRows {
-    /// The packed colour and the depth at pixel `x0 ≥ 0` of the current row.
-    #[inline(always)]
-    pub(crate) fn at(&self, x0: i32) -> (u64, i32) {
-        (
-            packed_at(self.c_row, self.pgx, x0),
-            self.z_row.wrapping_add(x0.wrapping_mul(self.gzx)),
-        )
-    }
-
-    /// Moves on to the next row.
-    #[inline(always)]
-    pub(crate) fn next_row(&mut self) {
-        self.c_row = self.c_row.wrapping_add(self.pgy);
-        self.z_row = self.z_row.wrapping_add(self.gzy);
-    }
-}
-
-/// The packed value `c + x0·dc` (modulo 2⁶⁴) at pixel `x0 ≥ 0` of a row whose
-/// value at x = 0 is `c`: from 32-bit products (no 64×64 multiply).
-#[inline(always)]
-pub(crate) fn packed_at(c: u64, dc: u64, x0: i32) -> u64 {
-    let x = x0 as u32;
-    let step =
-        mul_wide_u(x, dc as u32).wrapping_add((x.wrapping_mul((dc >> 32) as u32) as u64) << 32);
-    c.wrapping_add(step)
 }
 
 /// Whether the span loops in assembly (`super::asm`) draw the format: a 5-6-5
