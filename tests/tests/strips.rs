@@ -6,15 +6,28 @@
 //!   strips whose boundaries cut exactly through vertex rows (the row whose centre
 //!   a vertex lies on or just above, and its neighbours) and through rows in
 //!   between, against one full framebuffer: colour and depth byte for byte.
+//! * A frame prepared from a [`FrameSetup`] (what a board drawing a mesh chunk by
+//!   chunk keeps per frame): every figure and every scene of the hard-case
+//!   catalogue, one- and two-sided, give the vertex cache of `Frame::prepare`;
+//!   each mesh cut into chunks of 64 triangles and prepared chunk by chunk from
+//!   one setup gives every chunk vertex the whole mesh's bits; a setup used with
+//!   the wrong scene is refused.
 
+use fixshade::effects::TwoSided;
+use fixshade::geometry::Mesh;
 use fixshade::raster::edge::first_row;
 use fixshade::raster::span::{Classic, DepthTest, Gradient, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex};
+use fixshade::render::{Frame, FrameSetup, RenderError, XfVertex, NEEDED, OUTSIDE};
+use fixshade::scene::{Scene, MAX_OBJECTS};
 use fixshade::shade::Gouraud;
-use fixshade::target::{Framebuffer, Rgb888, Strip};
+use fixshade::specular::{BlinnExact, Specular};
+use fixshade::target::{Framebuffer, Rgb565Le, Rgb888, Strip};
 use fixshade_sim::render;
+use fixshade_sim::scene::convert::core_scene;
 use fixshade_sim::scene::desc::{ShadingName, SpanName};
 use fixshade_sim::scene::load::load_arg;
+use fixshade_tests::catalogue::scene_cases;
 use fixshade_tests::*;
 
 #[test]
@@ -233,4 +246,149 @@ fn strip_comparison_detects_a_difference() {
     assert_eq!(wc, sc);
     let (sc2, _) = stripped::<Gradient>(&[], &[0, 50, H]);
     assert_ne!(wc, sc2);
+}
+
+/// The vertex cache of `Frame::prepare_with::<Sp>`, of `prepare_from` a setup,
+/// and, chunk by chunk, of each object's mesh cut into runs of 64 triangles
+/// (each chunk alone in the scene, with its object's bound) prepared from the
+/// setup of the scene holding that object alone: the same bits.
+fn check_setup<Sp: Specular>(name: &str, scene: &Scene<'_>, (w, h): (u32, u32)) {
+    let n = Frame::<Rgb565Le, Sp>::cache_len(scene);
+    let mut whole = vec![XfVertex::default(); n];
+    Frame::<Rgb565Le>::prepare_with::<Sp>(scene, w, h, &mut whole).unwrap();
+    let setup = FrameSetup::<Sp, MAX_OBJECTS>::new(scene, w, h).unwrap();
+    let mut from = vec![XfVertex::default(); n];
+    Frame::<Rgb565Le, Sp>::prepare_from(scene, &setup, &mut from).unwrap();
+    assert!(from == whole, "{name}: prepare_from differs from prepare");
+    for (k, obj) in scene.objects.iter().enumerate() {
+        let mut alone = scene.clone();
+        alone.objects.clear();
+        alone.add_object(*obj).unwrap();
+        let mut one = vec![XfVertex::default(); Frame::<Rgb565Le, Sp>::cache_len(&alone)];
+        Frame::<Rgb565Le>::prepare_with::<Sp>(&alone, w, h, &mut one).unwrap();
+        let setup = FrameSetup::<Sp>::new(&alone, w, h).unwrap();
+        let m = &obj.mesh;
+        let count = m.positions().len();
+        for tris in m.triangles().chunks(64) {
+            // The chunk's vertices, renumbered in order of first use.
+            let mut map = vec![u16::MAX; count];
+            let mut used = Vec::new();
+            let local: Vec<[u16; 3]> = tris
+                .iter()
+                .map(|t| {
+                    t.map(|i| {
+                        if map[i as usize] == u16::MAX {
+                            map[i as usize] = used.len() as u16;
+                            used.push(i as usize);
+                        }
+                        map[i as usize]
+                    })
+                })
+                .collect();
+            let pos: Vec<_> = used.iter().map(|&i| m.positions()[i]).collect();
+            let nrm: Vec<_> = used.iter().map(|&i| m.normals()[i]).collect();
+            let mut part = alone.clone();
+            part.objects[0].mesh = Mesh::new(&pos, &nrm, &local).unwrap().with_bound(m.bound());
+            let mut cache = vec![XfVertex::default(); Frame::<Rgb565Le, Sp>::cache_len(&part)];
+            Frame::<Rgb565Le, Sp>::prepare_from(&part, &setup, &mut cache).unwrap();
+            let back = (Sp::two_sided(), used.len(), count);
+            for (j, &i) in used.iter().enumerate() {
+                let (c, o) = (cache[j], one[i]);
+                assert_eq!(c.flags & OUTSIDE, o.flags & OUTSIDE, "{name} object {k}");
+                if c.flags & OUTSIDE == 0 {
+                    assert_eq!(
+                        (c.s.x, c.s.y, c.s.z),
+                        (o.s.x, o.s.y, o.s.z),
+                        "{name} object {k}"
+                    );
+                }
+                // A vertex some drawable triangle of the chunk uses is one of the
+                // whole mesh's too: lit alike, front and back.
+                if c.flags & NEEDED != 0 {
+                    assert!(o.flags & NEEDED != 0, "{name} object {k}");
+                    assert_eq!(c.s.c, o.s.c, "{name} object {k}: colour");
+                    if back.0 {
+                        assert_eq!(
+                            cache[back.1 + j].s.c,
+                            one[back.2 + i].s.c,
+                            "{name} object {k}: back colour"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn frames_prepared_from_a_setup_equal_prepared_frames() {
+    let mut scenes: Vec<(String, fixshade_sim::scene::load::LoadedScene)> = FIGURES
+        .iter()
+        .map(|n| (n.to_string(), load_arg(n).unwrap()))
+        .collect();
+    scenes.extend(
+        scene_cases()
+            .into_iter()
+            .map(|c| (c.name.clone(), c.load().unwrap())),
+    );
+    let mut chunked = 0;
+    for (name, ls) in &scenes {
+        let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
+        let size = (ls.desc.width, ls.desc.height);
+        if scene.camera.view().is_none()
+            || FrameSetup::<BlinnExact, MAX_OBJECTS>::new(&scene, size.0, size.1).is_err()
+        {
+            // The catalogue's invalid cameras and sizes: the setup reports what
+            // prepare reports.
+            let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+            assert_eq!(
+                FrameSetup::<BlinnExact, MAX_OBJECTS>::new(&scene, size.0, size.1).err(),
+                Frame::<Rgb565Le>::prepare(&scene, size.0, size.1, &mut cache).err(),
+                "{name}"
+            );
+            continue;
+        }
+        check_setup::<BlinnExact>(name, &scene, size);
+        check_setup::<TwoSided<BlinnExact>>(&format!("{name} two-sided"), &scene, size);
+        chunked += scene
+            .objects
+            .iter()
+            .filter(|o| o.mesh.triangles().len() > 64)
+            .count();
+    }
+    assert!(chunked >= 3, "the figures are cut into chunks");
+
+    // The wrong scene: another bound, another number of objects, the empty setup.
+    let ls = load_arg("teapot").unwrap();
+    let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
+    let (w, h) = (ls.desc.width, ls.desc.height);
+    let setup = FrameSetup::<BlinnExact>::new(&scene, w, h).unwrap();
+    assert_eq!(setup.size(), (w, h));
+    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    let mut other = scene.clone();
+    let m = other.objects[0].mesh;
+    other.objects[0].mesh = m.with_bound(m.bound() + 1);
+    assert_eq!(
+        Frame::<Rgb565Le>::prepare_from(&other, &setup, &mut cache).err(),
+        Some(RenderError::SetupMismatch)
+    );
+    let mut two = scene.clone();
+    two.add_object(scene.objects[0]).unwrap();
+    assert_eq!(
+        FrameSetup::<BlinnExact>::new(&two, w, h).err(),
+        Some(RenderError::SetupMismatch)
+    );
+    let mut cache2 = vec![XfVertex::default(); two.vertex_count()];
+    assert_eq!(
+        Frame::<Rgb565Le>::prepare_from(&two, &setup, &mut cache2).err(),
+        Some(RenderError::SetupMismatch)
+    );
+    assert_eq!(
+        Frame::<Rgb565Le>::prepare_from(&scene, &FrameSetup::<BlinnExact>::EMPTY, &mut cache).err(),
+        Some(RenderError::SetupMismatch)
+    );
+    let mut s = FrameSetup::<BlinnExact>::new(&scene, w, h).unwrap();
+    assert_eq!(s.set(&two, w, h).err(), Some(RenderError::SetupMismatch));
+    assert_eq!(s.size(), (0, 0), "a failed set leaves the empty setup");
+    assert!(Frame::<Rgb565Le>::prepare_from(&scene, &s, &mut cache).is_err());
 }

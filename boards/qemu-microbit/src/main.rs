@@ -16,7 +16,11 @@
 //!   for the chunks whose rows reach it. Every vertex is transformed and lit by the
 //!   same arithmetic whatever chunk it is in, and triangles are drawn in the mesh's
 //!   order, so the frame has the host's bytes; the vertex stage is simply repeated
-//!   (its instructions are in the `prepare` column).
+//!   (its instructions are in the `prepare` column). What the vertex stage computes
+//!   before its first vertex (matrices, projection, lighting) is computed once per
+//!   frame into a [`FrameSetup`] in a static, and every chunk is prepared from it
+//!   ([`Frame::prepare_from`], the same bits); that once-per-frame cost is in the
+//!   `prepare` column too.
 //!
 //! The dividers, shading modes, specular models and perspective correction are
 //! measured on the full-frame ARMv6-M image (`boards/qemu-mps2-an386` built for
@@ -33,7 +37,7 @@ use core::fmt::Write as _;
 
 use cortex_m_rt::{entry, exception};
 use fixshade::raster::span::DepthTest;
-use fixshade::render::{Frame, Stats, XfVertex, OUTSIDE};
+use fixshade::render::{Frame, FrameSetup, Stats, XfVertex, NEEDED, OUTSIDE};
 use fixshade::scene::Scene;
 use fixshade::scene::ShadingMode;
 use fixshade::shade::Gouraud;
@@ -274,8 +278,9 @@ fn setup_cost(
     use fixshade::raster::setup::setup;
     use fixshade::render::NEEDED;
     let (mut n, mut with, mut without) = (0u32, 0u64, 0u64);
+    let (frame_setup, _) = new_setup(scene, chunks, counter)?;
     for c in chunks {
-        prepare(scene, c, cache, counter)?;
+        prepare(scene, frame_setup, c, cache, counter)?;
         let verts = &cache[..c.0.len()];
         let pass = |call: bool, counter: &mut SysTickCounter| {
             let mut k = 0u32;
@@ -315,6 +320,35 @@ fn setup_cost(
 /// The scene lives in a static so the stack holds no copy of it (2 KiB).
 static mut SCENE: Option<Scene<'static>> = None;
 
+/// The frame's vertex-stage setup (1.2 KiB), made once per frame by [`new_setup`]
+/// (in place: no second copy on the stack).
+static mut SETUP: FrameSetup = FrameSetup::EMPTY;
+
+/// Makes the vertex-stage setup of a frame of `scene` into [`SETUP`], with the
+/// first of `chunks` as the mesh (they all carry the whole mesh's bound); returns
+/// it and its instructions.
+#[inline(never)]
+fn new_setup(
+    scene: &mut Scene<'static>,
+    chunks: &[fig::Chunk],
+    counter: &mut SysTickCounter,
+) -> Result<(&'static FrameSetup, u64), &'static str> {
+    let (_, w, h) = FIGURE;
+    let first = chunks.first().ok_or("no chunks")?;
+    scene.objects[0].mesh = fig::chunk_mesh(first).map_err(|_| "chunk rejected")?;
+    // SAFETY: only this function writes SETUP, and the reference it returned
+    // last is no longer used when it is called again (one frame at a time).
+    #[allow(unsafe_code)]
+    let slot = unsafe { &mut *core::ptr::addr_of_mut!(SETUP) };
+    let t0 = counter.begin();
+    mark_on();
+    let r = slot.set(scene, w, h);
+    mark_off();
+    let cost = counter.since(t0);
+    r.map_err(|_| "frame setup failed")?;
+    Ok((slot, cost))
+}
+
 /// Builds the scene into [`SCENE`] (the temporary is on this function's stack,
 /// released before any drawing).
 #[inline(never)]
@@ -352,7 +386,9 @@ fn frame<'s>(
         height: h,
         ..FrameLog::default()
     };
-    // Pass 1: the pixel rows each chunk may draw; a chunk with a vertex outside the
+    // Pass 1: the pixel rows each chunk may draw, from the vertices its drawable
+    // triangles use (the vertex stage marks them `NEEDED`: the triangles the
+    // whole frame's cull and frame tests keep); a chunk with a vertex outside the
     // guard band or depth range may reach any row. The rasterizer skips a triangle
     // whose rows miss the target's (pixel centres at 16·y + 8), so does this, per
     // chunk, with a margin of `SNAP_MARGIN` (Q12.4) for span methods that move
@@ -363,15 +399,23 @@ fn frame<'s>(
     // band's rows fit), to keep this array's 256 bytes off a stack that is short of
     // room.
     let mut reach = [(i16::MIN, i16::MAX); MAX_CHUNKS];
+    let (setup, cost) = new_setup(scene, chunks, counter)?;
+    log.prepare += cost;
     for (k, c) in chunks.iter().enumerate() {
-        log.prepare += prepare(scene, c, cache, counter)?;
+        log.prepare += prepare(scene, setup, c, cache, counter)?;
         let v = &cache[..c.0.len()];
         if v.iter().all(|x| x.flags & OUTSIDE == 0) {
-            let lo = v.iter().map(|x| x.s.y).min().unwrap_or(i32::MAX) as i64;
-            let hi = v.iter().map(|x| x.s.y).max().unwrap_or(i32::MIN) as i64;
+            // Only the vertices of triangles that may be drawn (`NEEDED`): a chunk
+            // of back faces alone reaches no row.
+            let needed = v.iter().filter(|x| x.flags & NEEDED != 0).map(|x| x.s.y);
+            let lo = needed.clone().min();
+            let hi = needed.max();
             let m = SNAP_MARGIN as i64;
             let row = |q: i64| q.div_euclid(16).clamp(i16::MIN as i64, i16::MAX as i64) as i16;
-            reach[k] = (row(lo - m + 7), row(hi + m - 8));
+            reach[k] = match (lo, hi) {
+                (Some(lo), Some(hi)) => (row(lo as i64 - m + 7), row(hi as i64 + m - 8)),
+                _ => (i16::MAX, i16::MIN),
+            };
         }
     }
     let mut buf = [0u8; 64];
@@ -388,7 +432,8 @@ fn frame<'s>(
             if (last as i32) < r.start || first as i32 >= r.end {
                 continue;
             }
-            let (prepare, draw, stats) = prepare_and_draw(scene, c, draw, strip, cache, counter)?;
+            let (prepare, draw, stats) =
+                prepare_and_draw(scene, setup, c, draw, strip, cache, counter)?;
             log.prepare += prepare;
             log.draw += draw;
             log.stats.drawn += stats.drawn;
@@ -402,17 +447,18 @@ fn frame<'s>(
     Ok(log)
 }
 
-/// Runs the vertex stage of chunk `c` into `cache`; returns its instructions.
+/// Runs the vertex stage of chunk `c` into `cache` from the frame's `setup`;
+/// returns its instructions.
 #[inline(never)]
 fn prepare(
     scene: &mut Scene<'static>,
+    setup: &FrameSetup,
     c: &fig::Chunk,
     cache: &mut [XfVertex],
     counter: &mut SysTickCounter,
 ) -> Result<u64, &'static str> {
-    let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
-    let (frame, cost) = counter.measure(|| Frame::<Rgb565Le>::prepare(scene, w, h, cache));
+    let (frame, cost) = counter.measure(|| Frame::<Rgb565Le>::prepare_from(scene, setup, cache));
     frame.map_err(|_| "prepare failed")?;
     Ok(cost)
 }
@@ -422,20 +468,20 @@ fn prepare(
 #[inline(never)]
 fn prepare_and_draw<'s>(
     scene: &mut Scene<'static>,
+    setup: &FrameSetup,
     c: &fig::Chunk,
     draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le, fig::Depth>>,
     strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     cache: &mut [XfVertex],
     counter: &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), &'static str> {
-    let (_, w, h) = FIGURE;
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
     // The counter read around the call rather than through `SysTickCounter::measure`, whose
     // `(Result<Frame>, u64)` cost this function 32 more bytes of a stack that is
     // short of room (measured with `-Z emit-stack-sizes`).
     let t0 = counter.begin();
     mark_on();
-    let frame = Frame::<Rgb565Le>::prepare(scene, w, h, cache);
+    let frame = Frame::<Rgb565Le>::prepare_from(scene, setup, cache);
     mark_off();
     let prepare = counter.since(t0);
     let frame = frame.map_err(|_| "prepare failed")?;

@@ -121,6 +121,7 @@ impl Format for RenderError {
             RenderError::TargetSizeMismatch => write!(f, "TargetSizeMismatch"),
             RenderError::TwoSidedUnsupported => write!(f, "TwoSidedUnsupported"),
             RenderError::NoDepthBuffer => write!(f, "NoDepthBuffer"),
+            RenderError::SetupMismatch => write!(f, "SetupMismatch"),
         }
     }
 }

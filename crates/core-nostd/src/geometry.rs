@@ -596,6 +596,28 @@ impl Projector {
         })
     }
 
+    /// A projector of no frame (0 × 0), as a constant placeholder.
+    pub(crate) const UNSET: Projector = {
+        const AXIS: Axis = Axis {
+            k: 0,
+            kh: 0,
+            g: 0,
+            shift: 0,
+            bias: 0,
+        };
+        Projector {
+            vp: Viewport {
+                width: 0,
+                height: 0,
+            },
+            x: AXIS,
+            y: AXIS,
+            w_bits: 0,
+            scale: 0,
+            persp: None,
+        }
+    };
+
     /// The frame.
     pub fn viewport(&self) -> &Viewport {
         &self.vp

@@ -60,4 +60,4 @@ mod frame;
 mod walk;
 
 pub use bands::{BandMemory, Binned, Bins};
-pub use frame::{Frame, RenderError, Stats, XfVertex, NEEDED, OUTSIDE};
+pub use frame::{Frame, FrameSetup, RenderError, Stats, XfVertex, NEEDED, OUTSIDE};

@@ -330,6 +330,9 @@ pub enum RenderError {
     /// Two-sided lighting ([`crate::effects::TwoSided`]) with adaptive shading,
     /// which does not support it.
     TwoSidedUnsupported,
+    /// A [`FrameSetup`] used with a scene it was not made for (another number of
+    /// objects, or a mesh of another bound), or made for more objects than it holds.
+    SetupMismatch,
 }
 
 impl core::fmt::Display for RenderError {
@@ -358,6 +361,9 @@ impl core::fmt::Display for RenderError {
             RenderError::TwoSidedUnsupported => f.write_str(
                 "two-sided lighting is not supported with adaptive shading \
                  (use phong, gouraud, flat or quadratic)",
+            ),
+            RenderError::SetupMismatch => f.write_str(
+                "the frame setup was not made for this scene (objects or mesh bounds differ)",
             ),
         }
     }
@@ -555,70 +561,125 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
         height: u32,
         cache: &'c mut [XfVertex],
     ) -> Result<Frame<'s, 'a, 'c, P, Sp>, RenderError> {
-        if width == 0 || width > 4096 || height == 0 || height > 4096 {
-            return Err(RenderError::BadSize);
+        // Borrowed where the call left them (a `?` would copy them out first).
+        let consts = frame_setup(scene, width, height);
+        let (view, proj, map) = match &consts {
+            Ok(c) => c,
+            Err(e) => return Err(*e),
+        };
+        Frame::<P, Sp>::run(scene, cache, view, proj, map, None)
+    }
+}
+
+impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
+    /// Runs the vertex stage from a [`FrameSetup`] made for `scene`: the same
+    /// vertices, bit for bit, as [`Frame::prepare_with`] with the setup's size,
+    /// without building the matrices, the projection and the lighting again.
+    ///
+    /// For drawing one scene in parts: firmware whose RAM holds the vertex cache of
+    /// a chunk of the mesh but not of the whole mesh swaps the objects' meshes for
+    /// their chunks and prepares each chunk from one setup. A chunk must have the
+    /// bound of the mesh the setup was made with ([`Mesh::with_bound`](crate::geometry::Mesh::with_bound)), which the
+    /// transform's range is chosen for; anything else the setup read (the camera,
+    /// the lights, the placements and materials, the frame size) must not have
+    /// changed: a changed camera, say, is not detected and draws the old view.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// use fixshade::render::FrameSetup;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let setup: FrameSetup = FrameSetup::new(&scene, 64, 48).unwrap();
+    /// let (mut a, mut b) = ([XfVertex::default(); 3], [XfVertex::default(); 3]);
+    /// Frame::<Rgb565Le>::prepare(&scene, 64, 48, &mut a).unwrap();
+    /// let frame = Frame::<Rgb565Le>::prepare_from(&scene, &setup, &mut b).unwrap();
+    /// assert_eq!(frame.size(), (64, 48));
+    /// drop(frame);
+    /// assert_eq!(a, b);
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// [`RenderError::SetupMismatch`] when the scene has another number of objects
+    /// than the setup, or an object's mesh another bound, or the setup is
+    /// [`FrameSetup::EMPTY`];
+    /// [`RenderError::CacheTooSmall`] as [`Frame::prepare`].
+    pub fn prepare_from<const N: usize>(
+        scene: &'s Scene<'a>,
+        setup: &FrameSetup<Sp, N>,
+        cache: &'c mut [XfVertex],
+    ) -> Result<Self, RenderError> {
+        if setup.size() == (0, 0)
+            || setup.objects.len() != scene.objects.len()
+            || setup
+                .objects
+                .iter()
+                .zip(scene.objects.iter())
+                .any(|(s, o)| s.bound != o.mesh.bound())
+        {
+            return Err(RenderError::SetupMismatch);
         }
+        Frame::run(
+            scene,
+            cache,
+            &setup.view,
+            &setup.proj,
+            &setup.map,
+            Some(&setup.objects),
+        )
+    }
+
+    /// The vertex stage's passes over every object of `scene` in the frame of
+    /// `view`, `proj` and `map`, each object with its setup from `stored` (by
+    /// index), or built here when there is none.
+    #[inline(always)]
+    fn run(
+        scene: &'s Scene<'a>,
+        cache: &'c mut [XfVertex],
+        view: &Mat4,
+        proj: &Mat4,
+        map: &Projector,
+        stored: Option<&[ObjectSetup<Sp>]>,
+    ) -> Result<Self, RenderError> {
         // Two-sided lighting keeps the back colours in a second half of the cache.
         let count = scene.vertex_count();
         let needed = Frame::<P, Sp>::cache_len(scene);
         if cache.len() < needed {
             return Err(RenderError::CacheTooSmall { needed });
         }
-        let view = scene.camera.view().ok_or(RenderError::BadView)?;
-        let proj = scene
-            .camera
-            .projection_matrix(width, height)
-            .ok_or(RenderError::BadProjection)?;
-        let vp = Viewport { width, height };
-        // One clip scale for the frame: from how far any vertex lies from the eye,
-        // per eye-space coordinate (the view is rigid, the model a rotation and a
-        // uniform scale: |offset from the object's origin| ≤ scale·√3·bound).
-        let reach = scene.objects.iter().fold(0i64, |r, obj| {
-            let pl = &obj.placement;
-            let origin = view.transform_point(pl.translate);
-            let far = origin.iter().map(|c| c.saturating_abs()).max().unwrap_or(0);
-            let extent = 2 * (pl.scale.to_bits().unsigned_abs() as i64) * obj.mesh.bound() as i64;
-            r.max(far.saturating_add(extent))
-        });
-        let depth_range = match scene.camera.projection {
-            Projection::Perspective { near, far, .. } => Some((near, far)),
-            Projection::Orthographic { .. } => None,
-        };
-        let proj_map =
-            Projector::new(vp, &proj, depth_range, reach).ok_or(RenderError::BadProjection)?;
+        let vp = *map.viewport();
         let mut offsets = heapless::Vec::new();
         let mut offset = 0;
         let (front, back) = cache.split_at_mut(count);
         for (i, obj) in scene.objects.iter().enumerate() {
-            let mv = view.mul(&obj.placement.matrix());
-            let clip = object_transform(&mv, &proj, &proj_map, obj)
-                .ok_or(RenderError::SingularModel { object: i })?;
-            // A singular model (scale 0) has no normals.
-            let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
-            let light = LightingSetup::<Sp>::new(
-                &scene.lights,
-                &view,
-                &obj.material,
-                scene.global_ambient,
-                scene.local_viewer,
-            );
+            // Built in place when not stored (as locals: a struct or a tuple moved
+            // out of a call would be copied, on the stack of a small board).
+            let (built_clip, built_aff, built_light);
+            let (clip, aff, light) = match stored {
+                Some(s) => (&s[i].clip, &s[i].aff, &s[i].light),
+                None => {
+                    let mv = view.mul(&obj.placement.matrix());
+                    built_clip = object_transform(&mv, proj, map, obj)
+                        .ok_or(RenderError::SingularModel { object: i })?;
+                    // A singular model (scale 0) has no normals.
+                    built_aff =
+                        Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+                    built_light = ObjectSetup::<Sp>::lighting(scene, obj, view);
+                    (&built_clip, &built_aff, &built_light)
+                }
+            };
             let mesh = &obj.mesh;
             let out = &mut front[offset..offset + mesh.positions().len()];
             // 1. Transform and project every vertex once.
             let pos = mesh.positions();
             use crate::math::PositionShift as Sh;
-            let outside = match (proj_map.perspective_depth(), clip.form()) {
-                (Some(d), (13, Sh::None)) => {
-                    project_perspective::<13, 0>(out, pos, &clip, &proj_map, d)
-                }
-                (Some(d), (13, _)) => project_perspective::<13, 1>(out, pos, &clip, &proj_map, d),
-                (Some(d), (_, Sh::Right)) => {
-                    project_perspective::<11, 2>(out, pos, &clip, &proj_map, d)
-                }
-                (Some(d), _) => project_perspective::<11, 1>(out, pos, &clip, &proj_map, d),
-                (None, (13, _)) => project_general::<13, 1>(out, pos, &clip, &proj_map),
-                (None, (_, Sh::Right)) => project_general::<11, 2>(out, pos, &clip, &proj_map),
-                (None, _) => project_general::<11, 1>(out, pos, &clip, &proj_map),
+            let outside = match (map.perspective_depth(), clip.form()) {
+                (Some(d), (13, Sh::None)) => project_perspective::<13, 0>(out, pos, clip, map, d),
+                (Some(d), (13, _)) => project_perspective::<13, 1>(out, pos, clip, map, d),
+                (Some(d), (_, Sh::Right)) => project_perspective::<11, 2>(out, pos, clip, map, d),
+                (Some(d), _) => project_perspective::<11, 1>(out, pos, clip, map, d),
+                (None, (13, _)) => project_general::<13, 1>(out, pos, clip, map),
+                (None, (_, Sh::Right)) => project_general::<11, 2>(out, pos, clip, map),
+                (None, _) => project_general::<11, 1>(out, pos, clip, map),
             };
             // 2. Cull before lighting: only vertices of triangles that may be drawn
             //    are lit (the flags are read only if some vertex is outside).
@@ -630,19 +691,19 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
                 (false, false) => mark_needed::<false, false, SMALL_AREA>(out, tris, &vp),
             }
             // 3. Light the vertices that are needed, in eye space.
-            light_needed::<P, Sp>(out, pos, mesh.normals(), &aff, &light);
+            light_needed::<P, Sp>(out, pos, mesh.normals(), aff, light);
             if Sp::two_sided() {
                 // 4. Two-sided: the same vertices with the negated normal and the
                 //    back material (the front material when the object has none).
                 let back_light = LightingSetup::<Sp>::new(
                     &scene.lights,
-                    &view,
+                    view,
                     obj.back_material.unwrap_or(&obj.material),
                     scene.global_ambient,
                     scene.local_viewer,
                 );
                 let b = &mut back[offset..offset + pos.len()];
-                light_back::<P, Sp>(b, out, pos, mesh.normals(), &aff, &back_light);
+                light_back::<P, Sp>(b, out, pos, mesh.normals(), aff, &back_light);
             }
             // Capacity equals the scene's object capacity.
             let _ = offsets.push(offset);
@@ -653,11 +714,203 @@ impl<'s, 'a, 'c, P: PixelFormat> Frame<'s, 'a, 'c, P, BlinnExact> {
             cache,
             back: count,
             offsets,
-            view,
-            proj,
-            vp: proj_map,
+            view: *view,
+            proj: *proj,
+            vp: *map,
             _format: PhantomData,
         })
+    }
+}
+
+/// The frame-wide part of the vertex stage's setup: the view and projection
+/// matrices and the projector of a frame of `width` × `height` pixels.
+fn frame_setup(
+    scene: &Scene<'_>,
+    width: u32,
+    height: u32,
+) -> Result<(Mat4, Mat4, Projector), RenderError> {
+    if width == 0 || width > 4096 || height == 0 || height > 4096 {
+        return Err(RenderError::BadSize);
+    }
+    let view = scene.camera.view().ok_or(RenderError::BadView)?;
+    let proj = scene
+        .camera
+        .projection_matrix(width, height)
+        .ok_or(RenderError::BadProjection)?;
+    let vp = Viewport { width, height };
+    // One clip scale for the frame: from how far any vertex lies from the eye,
+    // per eye-space coordinate (the view is rigid, the model a rotation and a
+    // uniform scale: |offset from the object's origin| ≤ scale·√3·bound).
+    let reach = scene.objects.iter().fold(0i64, |r, obj| {
+        let pl = &obj.placement;
+        let origin = view.transform_point(pl.translate);
+        let far = origin.iter().map(|c| c.saturating_abs()).max().unwrap_or(0);
+        let extent = 2 * (pl.scale.to_bits().unsigned_abs() as i64) * obj.mesh.bound() as i64;
+        r.max(far.saturating_add(extent))
+    });
+    let depth_range = match scene.camera.projection {
+        Projection::Perspective { near, far, .. } => Some((near, far)),
+        Projection::Orthographic { .. } => None,
+    };
+    let map = Projector::new(vp, &proj, depth_range, reach).ok_or(RenderError::BadProjection)?;
+    Ok((view, proj, map))
+}
+
+/// One object's part of the vertex stage's setup: its clip transform, its
+/// model-view [`Affine3`] (the normal matrix) and its (front) lighting, for a mesh
+/// of bound `bound`.
+struct ObjectSetup<Sp: Specular> {
+    clip: VertexTransform,
+    aff: Affine3,
+    light: LightingSetup<Sp>,
+    bound: i32,
+}
+
+impl<Sp: Specular> ObjectSetup<Sp> {
+    /// Object `i` of `scene`, `obj`, in the frame of `view`, `proj` and `map`.
+    fn new(
+        scene: &Scene<'_>,
+        i: usize,
+        obj: &Object<'_>,
+        view: &Mat4,
+        proj: &Mat4,
+        map: &Projector,
+    ) -> Result<Self, RenderError> {
+        // As `Frame::run` builds them.
+        let mv = view.mul(&obj.placement.matrix());
+        let clip = object_transform(&mv, proj, map, obj)
+            .ok_or(RenderError::SingularModel { object: i })?;
+        let aff = Affine3::new(&mv).ok_or(RenderError::SingularModel { object: i })?;
+        Ok(ObjectSetup {
+            clip,
+            aff,
+            light: Self::lighting(scene, obj, view),
+            bound: obj.mesh.bound(),
+        })
+    }
+
+    /// The (front) lighting setup of `obj` under `view`.
+    #[inline(always)]
+    fn lighting(scene: &Scene<'_>, obj: &Object<'_>, view: &Mat4) -> LightingSetup<Sp> {
+        LightingSetup::<Sp>::new(
+            &scene.lights,
+            view,
+            &obj.material,
+            scene.global_ambient,
+            scene.local_viewer,
+        )
+    }
+}
+
+/// The setup of a frame's vertex stage, kept to prepare the frame again
+/// ([`Frame::prepare_from`]) with its meshes swapped for chunks of them: the view,
+/// the projection and, for each of at most `N` objects, its transforms and
+/// lighting. It costs what [`Frame::prepare`] spends before its first vertex: a
+/// fixed cost that was two thirds of the vertex stage's instructions in the
+/// micro:bit image's 64-vertex chunks when every chunk paid it.
+///
+/// About 1.25 KB for one object (its lighting setup holds eight lights), so a
+/// firmware keeps it in a `static` rather than on a small stack.
+///
+/// ```
+/// use fixshade::prelude::*;
+/// use fixshade::render::FrameSetup;
+/// # let scene = fixshade::doc_support::scene();
+/// let setup: FrameSetup = FrameSetup::new(&scene, 64, 48).unwrap();
+/// assert_eq!(setup.size(), (64, 48));
+/// // A scene of more objects than the setup holds:
+/// assert_eq!(
+///     FrameSetup::<fixshade::specular::BlinnExact, 0>::new(&scene, 64, 48).err(),
+///     Some(RenderError::SetupMismatch)
+/// );
+/// ```
+pub struct FrameSetup<Sp: Specular = BlinnExact, const N: usize = 1> {
+    view: Mat4,
+    proj: Mat4,
+    map: Projector,
+    objects: heapless::Vec<ObjectSetup<Sp>, N>,
+}
+
+impl<Sp: Specular, const N: usize> FrameSetup<Sp, N> {
+    /// The setup of no frame, for a `static` to start from: [`Frame::prepare_from`]
+    /// rejects it until [`FrameSetup::set`] has made it a scene's.
+    pub const EMPTY: Self = FrameSetup {
+        view: Mat4 { m: [[0; 4]; 4] },
+        proj: Mat4 { m: [[0; 4]; 4] },
+        map: Projector::UNSET,
+        objects: heapless::Vec::new(),
+    };
+
+    /// The setup of `scene` for a frame of `width` × `height` pixels.
+    ///
+    /// # Errors
+    ///
+    /// As [`FrameSetup::set`].
+    pub fn new(scene: &Scene<'_>, width: u32, height: u32) -> Result<Self, RenderError> {
+        let mut s = Self::EMPTY;
+        s.set(scene, width, height)?;
+        Ok(s)
+    }
+
+    /// Makes this the setup of `scene` for a frame of `width` × `height` pixels, in
+    /// place (a firmware's `static`, with no second copy on the stack).
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// use fixshade::render::FrameSetup;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let mut setup: FrameSetup = FrameSetup::EMPTY;
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let frame = Frame::<Gray8>::prepare_from(&scene, &setup, &mut cache);
+    /// assert_eq!(frame.err(), Some(RenderError::SetupMismatch));
+    /// setup.set(&scene, 64, 48).unwrap();
+    /// assert!(Frame::<Gray8>::prepare_from(&scene, &setup, &mut cache).is_ok());
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// What [`Frame::prepare`] reports for the scene and size, and
+    /// [`RenderError::SetupMismatch`] for a scene of more than `N` objects. The
+    /// setup is then left empty: its size is `(0, 0)` and [`Frame::prepare_from`]
+    /// rejects it.
+    pub fn set(&mut self, scene: &Scene<'_>, width: u32, height: u32) -> Result<(), RenderError> {
+        self.objects.clear();
+        self.map = Projector::UNSET;
+        let (view, proj, map) = frame_setup(scene, width, height)?;
+        for (i, obj) in scene.objects.iter().enumerate() {
+            let o = if self.objects.is_full() {
+                Err(RenderError::SetupMismatch)
+            } else {
+                ObjectSetup::new(scene, i, obj, &view, &proj, &map)
+            };
+            match o {
+                // Not full: the push succeeds.
+                Ok(o) => {
+                    let _ = self.objects.push(o);
+                }
+                Err(e) => {
+                    self.objects.clear();
+                    return Err(e);
+                }
+            }
+        }
+        (self.view, self.proj, self.map) = (view, proj, map);
+        Ok(())
+    }
+
+    /// The frame's size in pixels, `(width, height)` (`(0, 0)` for
+    /// [`FrameSetup::EMPTY`]).
+    pub fn size(&self) -> (u32, u32) {
+        (self.map.width, self.map.height)
+    }
+}
+
+impl<Sp: Specular, const N: usize> core::fmt::Debug for FrameSetup<Sp, N> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("FrameSetup")
+            .field("size", &self.size())
+            .field("objects", &self.objects.len())
+            .finish_non_exhaustive()
     }
 }
 
