@@ -276,7 +276,6 @@ fn setup_cost(
 ) -> Result<(), &'static str> {
     use fixshade::clip::signed_area;
     use fixshade::raster::setup::setup;
-    use fixshade::render::NEEDED;
     let (mut n, mut with, mut without) = (0u32, 0u64, 0u64);
     let (frame_setup, _) = new_setup(scene, chunks, counter)?;
     for c in chunks {

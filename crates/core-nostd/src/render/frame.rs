@@ -776,7 +776,9 @@ impl<Sp: Specular> ObjectSetup<Sp> {
         proj: &Mat4,
         map: &Projector,
     ) -> Result<Self, RenderError> {
-        // As `Frame::run` builds them.
+        // As `Frame::run` builds them. Written out there as well: a shared function
+        // returning the two transforms cost the micro:bit scenes image 160 to 352 bytes
+        // more peak stack (measured on its painted stack).
         let mv = view.mul(&obj.placement.matrix());
         let clip = object_transform(&mv, proj, map, obj)
             .ok_or(RenderError::SingularModel { object: i })?;
