@@ -14,7 +14,9 @@
 //!   the wrong scene is refused.
 
 use fixshade::effects::TwoSided;
+use fixshade::fixed::Q2_14;
 use fixshade::geometry::Mesh;
+use fixshade::math::Vec3;
 use fixshade::raster::edge::first_row;
 use fixshade::raster::span::{Classic, DepthTest, Gradient, SpanMethod};
 use fixshade::raster::{draw_triangle, ScreenVertex};
@@ -252,6 +254,54 @@ fn strip_comparison_detects_a_difference() {
 /// and, chunk by chunk, of each object's mesh cut into runs of 64 triangles
 /// (each chunk alone in the scene, with its object's bound) prepared from the
 /// setup of the scene holding that object alone: the same bits.
+/// A chunk of 64 consecutive triangles of a mesh, as the micro:bit images bake
+/// them: its vertices renumbered in order of first use.
+struct Chunk {
+    /// The mesh's index of each chunk vertex.
+    used: Vec<usize>,
+    pos: Vec<Vec3>,
+    nrm: Vec<[Q2_14; 3]>,
+    tris: Vec<[u16; 3]>,
+}
+
+impl Chunk {
+    /// The chunk as a mesh with the whole mesh's `bound`.
+    fn mesh(&self, bound: i32) -> Mesh<'_> {
+        Mesh::new(&self.pos, &self.nrm, &self.tris)
+            .unwrap()
+            .with_bound(bound)
+    }
+}
+
+/// `m` cut into chunks of 64 consecutive triangles.
+fn chunks(m: &Mesh<'_>) -> Vec<Chunk> {
+    m.triangles()
+        .chunks(64)
+        .map(|tris| {
+            let mut map = vec![u16::MAX; m.positions().len()];
+            let mut used = Vec::new();
+            let tris = tris
+                .iter()
+                .map(|t| {
+                    t.map(|i| {
+                        if map[i as usize] == u16::MAX {
+                            map[i as usize] = used.len() as u16;
+                            used.push(i as usize);
+                        }
+                        map[i as usize]
+                    })
+                })
+                .collect();
+            Chunk {
+                pos: used.iter().map(|&i| m.positions()[i]).collect(),
+                nrm: used.iter().map(|&i| m.normals()[i]).collect(),
+                used,
+                tris,
+            }
+        })
+        .collect()
+}
+
 fn check_setup<Sp: Specular>(name: &str, scene: &Scene<'_>, (w, h): (u32, u32)) {
     let n = Frame::<Rgb565Le, Sp>::cache_len(scene);
     let mut whole = vec![XfVertex::default(); n];
@@ -269,26 +319,10 @@ fn check_setup<Sp: Specular>(name: &str, scene: &Scene<'_>, (w, h): (u32, u32)) 
         let setup = FrameSetup::<Sp>::new(&alone, w, h).unwrap();
         let m = &obj.mesh;
         let count = m.positions().len();
-        for tris in m.triangles().chunks(64) {
-            // The chunk's vertices, renumbered in order of first use.
-            let mut map = vec![u16::MAX; count];
-            let mut used = Vec::new();
-            let local: Vec<[u16; 3]> = tris
-                .iter()
-                .map(|t| {
-                    t.map(|i| {
-                        if map[i as usize] == u16::MAX {
-                            map[i as usize] = used.len() as u16;
-                            used.push(i as usize);
-                        }
-                        map[i as usize]
-                    })
-                })
-                .collect();
-            let pos: Vec<_> = used.iter().map(|&i| m.positions()[i]).collect();
-            let nrm: Vec<_> = used.iter().map(|&i| m.normals()[i]).collect();
+        for c in chunks(m) {
+            let used = &c.used;
             let mut part = alone.clone();
-            part.objects[0].mesh = Mesh::new(&pos, &nrm, &local).unwrap().with_bound(m.bound());
+            part.objects[0].mesh = c.mesh(m.bound());
             let mut cache = vec![XfVertex::default(); Frame::<Rgb565Le, Sp>::cache_len(&part)];
             Frame::<Rgb565Le, Sp>::prepare_from(&part, &setup, &mut cache).unwrap();
             let back = (Sp::two_sided(), used.len(), count);
@@ -391,4 +425,148 @@ fn frames_prepared_from_a_setup_equal_prepared_frames() {
     assert_eq!(s.set(&two, w, h).err(), Some(RenderError::SetupMismatch));
     assert_eq!(s.size(), (0, 0), "a failed set leaves the empty setup");
     assert!(Frame::<Rgb565Le>::prepare_from(&scene, &s, &mut cache).is_err());
+}
+
+/// Draws `frame` with the gradient span into `color`/`depth` (a `w` × `h` frame).
+fn draw_into<Sp: Specular>(
+    frame: &Frame<'_, '_, '_, Rgb565Le, Sp>,
+    color: &mut [u16],
+    depth: &mut [u16],
+    (w, h): (u32, u32),
+) {
+    let mut fb = Framebuffer::<Rgb565Le>::new(color, Some(depth), w, h).unwrap();
+    frame.draw::<Gradient, _>(&mut fb).unwrap();
+}
+
+/// A frame resumed from a cache `prepare_from` filled ([`Frame::resume`]) draws
+/// the prepared frame's bytes: every figure cut into chunks, each chunk prepared
+/// into a cache of its own and drawn, then every chunk drawn again from its cache;
+/// one- and two-sided. A cache of another chunk draws other bytes, and caches no
+/// vertex stage writes are refused.
+#[test]
+fn frames_resumed_from_a_prepared_cache_draw_the_same_bytes() {
+    fn check<Sp: Specular>(name: &str, scene: &Scene<'_>, (w, h): (u32, u32)) -> usize {
+        let m = scene.objects[0].mesh;
+        let setup = FrameSetup::<Sp>::new(scene, w, h).unwrap();
+        let parts = chunks(&m);
+        let n = (w * h) as usize;
+        let (mut a, mut za) = (vec![0u16; n], vec![u16::MAX; n]);
+        let (mut b, mut zb) = (vec![0u16; n], vec![u16::MAX; n]);
+        let mut caches = Vec::new();
+        for c in &parts {
+            let mut part = scene.clone();
+            part.objects[0].mesh = c.mesh(m.bound());
+            let mut cache = vec![XfVertex::default(); Frame::<Rgb565Le, Sp>::cache_len(&part)];
+            let frame = Frame::<Rgb565Le, Sp>::prepare_from(&part, &setup, &mut cache).unwrap();
+            draw_into(&frame, &mut a, &mut za, (w, h));
+            drop(frame);
+            caches.push(cache);
+        }
+        for (c, cache) in parts.iter().zip(&caches) {
+            let mut part = scene.clone();
+            part.objects[0].mesh = c.mesh(m.bound());
+            let frame = Frame::<Rgb565Le, Sp>::resume(&part, &setup, cache).unwrap();
+            draw_into(&frame, &mut b, &mut zb, (w, h));
+        }
+        assert!(a.iter().any(|&p| p != 0), "{name}: something drawn");
+        assert!(a == b && za == zb, "{name}: the resumed chunks differ");
+        // A chunk that draws something, drawn from the previous chunk's cache (if
+        // as large): other bytes.
+        let mut swapped = 0;
+        for (k, c) in parts.iter().enumerate().skip(1) {
+            let prev = &caches[k - 1];
+            let mut part = scene.clone();
+            part.objects[0].mesh = c.mesh(m.bound());
+            if prev.len() < Frame::<Rgb565Le, Sp>::cache_len(&part) {
+                continue;
+            }
+            let (mut x, mut zx) = (vec![0u16; n], vec![u16::MAX; n]);
+            let (mut y, mut zy) = (vec![0u16; n], vec![u16::MAX; n]);
+            let right = Frame::<Rgb565Le, Sp>::resume(&part, &setup, &caches[k]).unwrap();
+            draw_into(&right, &mut x, &mut zx, (w, h));
+            if x.iter().all(|&p| p == 0) {
+                continue; // back faces only
+            }
+            let wrong = Frame::<Rgb565Le, Sp>::resume(&part, &setup, prev).unwrap();
+            draw_into(&wrong, &mut y, &mut zy, (w, h));
+            assert!(
+                x != y,
+                "{name}: chunk {k} drawn alike from another chunk's cache"
+            );
+            swapped += 1;
+        }
+        swapped
+    }
+    let mut swapped = 0;
+    for name in FIGURES {
+        let ls = load_arg(name).unwrap();
+        let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
+        let size = (ls.desc.width, ls.desc.height);
+        swapped += check::<BlinnExact>(name, &scene, size);
+        swapped += check::<TwoSided<BlinnExact>>(&format!("{name} two-sided"), &scene, size);
+    }
+    assert!(
+        swapped > 10,
+        "chunks drawn from another chunk's cache: {swapped}"
+    );
+
+    // Refused: caches no vertex stage writes, and what prepare_from refuses.
+    let ls = load_arg("teapot").unwrap();
+    let scene = core_scene(&ls.desc, &ls.fixed).unwrap();
+    let (w, h) = (ls.desc.width, ls.desc.height);
+    let setup = FrameSetup::<BlinnExact>::new(&scene, w, h).unwrap();
+    let mut cache = vec![XfVertex::default(); scene.vertex_count()];
+    Frame::<Rgb565Le>::prepare_from(&scene, &setup, &mut cache).unwrap();
+    assert!(Frame::<Rgb565Le>::resume(&scene, &setup, &cache).is_ok());
+    let resume = |c: &[XfVertex]| Frame::<Rgb565Le>::resume(&scene, &setup, c).err();
+    let k = cache.iter().position(|v| v.flags & OUTSIDE == 0).unwrap();
+    let edit = |f: &dyn Fn(&mut XfVertex)| {
+        let mut c = cache.clone();
+        f(&mut c[k]);
+        c
+    };
+    let guard = fixshade::raster::vertex::GUARD;
+    for (what, bad) in [
+        ("x at the guard band", edit(&|v| v.s.x = guard)),
+        ("y below the guard band", edit(&|v| v.s.y = -guard)),
+        ("depth past the range", edit(&|v| v.s.z = u32::MAX)),
+        ("negative colour", edit(&|v| v.s.c[1] = -1)),
+        ("colour of 2^30", edit(&|v| v.s.c[2] = 1 << 30)),
+    ] {
+        assert_eq!(resume(&bad), Some(RenderError::CacheNotPrepared), "{what}");
+    }
+    // Inside the guard band, and anything where the clipper takes the mesh instead.
+    assert!(resume(&edit(&|v| v.s.x = guard - 1)).is_none());
+    assert!(resume(&edit(&|v| {
+        v.flags |= OUTSIDE;
+        v.s.x = i32::MIN;
+    }))
+    .is_none());
+    assert_eq!(
+        resume(&cache[..cache.len() - 1]),
+        Some(RenderError::CacheTooSmall {
+            needed: cache.len()
+        })
+    );
+    let mut other = scene.clone();
+    let m = other.objects[0].mesh;
+    other.objects[0].mesh = m.with_bound(m.bound() + 1);
+    assert_eq!(
+        Frame::<Rgb565Le>::resume(&other, &setup, &cache).err(),
+        Some(RenderError::SetupMismatch)
+    );
+    assert_eq!(
+        Frame::<Rgb565Le>::resume(&scene, &FrameSetup::<BlinnExact>::EMPTY, &cache).err(),
+        Some(RenderError::SetupMismatch)
+    );
+    // Two-sided: the back half's colours are checked too.
+    let mut two = vec![XfVertex::default(); 2 * scene.vertex_count()];
+    let setup2 = FrameSetup::<TwoSided<BlinnExact>>::new(&scene, w, h).unwrap();
+    Frame::<Rgb565Le, TwoSided<BlinnExact>>::prepare_from(&scene, &setup2, &mut two).unwrap();
+    let last = two.len() - 1;
+    two[last].s.c[0] = -5;
+    assert_eq!(
+        Frame::<Rgb565Le, TwoSided<BlinnExact>>::resume(&scene, &setup2, &two).err(),
+        Some(RenderError::CacheNotPrepared)
+    );
 }

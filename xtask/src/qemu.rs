@@ -1036,9 +1036,10 @@ fn tables(
          (`Frame::draw`); per pixel and per triangle divide the whole frame (prepare + draw)\n\
          by the covered pixels and by the submitted triangles, as the host benchmark does.\n\
          On the Cortex-M0 (micro:bit) the frame is drawn in strips and the mesh in\n\
-         vertex-bounded chunks, so its `prepare` runs once per strip and chunk (see\n\
-         boards/qemu-microbit; the figure images make one `FrameSetup` a frame and prepare\n\
-         every chunk from it with `Frame::prepare_from`); `mps2-an385-v6m` is the same ARMv6-M code drawing whole\n\
+         vertex-bounded chunks, so its `prepare` runs once per strip and chunk that is not\n\
+         still in one of its chunk caches (see boards/qemu-microbit; the figure images make\n\
+         one `FrameSetup` a frame, prepare chunks from it with `Frame::prepare_from` and draw\n\
+         a chunk still in a cache again with `Frame::resume`); `mps2-an385-v6m` is the same ARMv6-M code drawing whole\n\
          frames. A method with `(bands-N)` drew the frame in bands of N rows from one\n\
          binning (`Frame::bin`), its `draw` the binning and every band. `helpers` is the\n\
          instructions inside compiler runtime helpers (`__aeabi_*`, `__*di3`, `memcpy`, …)\n\

@@ -20,7 +20,10 @@
 //!   before its first vertex (matrices, projection, lighting) is computed once per
 //!   frame into a [`FrameSetup`] in a static, and every chunk is prepared from it
 //!   ([`Frame::prepare_from`], the same bits); that once-per-frame cost is in the
-//!   `prepare` column too.
+//!   `prepare` column too. The chunk caches are `SLOTS` (two, one for the teapot):
+//!   a chunk still in one when a later strip reaches it is drawn from it again
+//!   ([`Frame::resume`]: a range check of its vertices, also in `prepare`), and a
+//!   chunk that is not replaces the one drawn again last.
 //!
 //! The dividers, shading modes, specular models and perspective correction are
 //! measured on the full-frame ARMv6-M image (`boards/qemu-mps2-an386` built for
@@ -106,7 +109,18 @@ const EMPTY: XfVertex = XfVertex {
 
 static mut COLOR: [u16; STRIP_PIXELS] = [0; STRIP_PIXELS];
 static mut DEPTH: [fig::Depth; STRIP_PIXELS] = [0; STRIP_PIXELS];
-static mut CACHE: [XfVertex; fig::MAX_CHUNK_VERTICES] = [EMPTY; fig::MAX_CHUNK_VERTICES];
+/// Chunk caches kept across strips: a chunk whose cache is still here when a later
+/// strip reaches it is drawn again from it ([`Frame::resume`]) instead of being
+/// prepared again. Each is 64 × 28 = 1,792 bytes; the images have room for two, the
+/// teapot's (32-bit depth rows, 1.25 KiB more) for one.
+#[cfg(not(feature = "teapot"))]
+const SLOTS: usize = 2;
+#[cfg(feature = "teapot")]
+const SLOTS: usize = 1;
+/// No chunk in a slot.
+const NONE: u8 = u8::MAX;
+static mut CACHE: [[XfVertex; fig::MAX_CHUNK_VERTICES]; SLOTS] =
+    [[EMPTY; fig::MAX_CHUNK_VERTICES]; SLOTS];
 
 /// Word written over the free RAM between the statics and the stack at start; the
 /// lowest word that no longer holds it shows how deep the stack went.
@@ -218,7 +232,7 @@ fn run() -> Result<(), &'static str> {
         return Err("strip rows must divide the frame height; one object per figure");
     }
     let chunks = fig::OBJECTS[0];
-    if chunks.len() > MAX_CHUNKS {
+    if chunks.len() > MAX_CHUNKS.min(NONE as usize) {
         return Err("too many chunks");
     }
     let scene = init_scene()?;
@@ -251,13 +265,13 @@ fn run() -> Result<(), &'static str> {
             chunks,
             &mut strip,
             bg,
-            &mut cache[..],
+            cache,
             &mut counter,
         )?;
         let _ = log.write(&mut Console, BOARD, name, case);
     }
     #[cfg(feature = "bench-sphere")]
-    setup_cost(scene, chunks, &mut cache[..], &mut counter)?;
+    setup_cost(scene, chunks, &mut cache[0][..], &mut counter)?;
     Ok(())
 }
 
@@ -370,7 +384,7 @@ fn frame<'s>(
     chunks: &[fig::Chunk],
     strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     bg: u16,
-    cache: &mut [XfVertex],
+    slots: &mut [[XfVertex; fig::MAX_CHUNK_VERTICES]; SLOTS],
     counter: &mut SysTickCounter,
 ) -> Result<FrameLog, &'static str> {
     let (name, w, h) = FIGURE;
@@ -400,9 +414,13 @@ fn frame<'s>(
     let mut reach = [(i16::MIN, i16::MAX); MAX_CHUNKS];
     let (setup, cost) = new_setup(scene, chunks, counter)?;
     log.prepare += cost;
+    // The chunk each slot's cache holds (`NONE`: none yet); pass 1 prepares into the
+    // first slot, so it ends with the last chunk there.
+    let mut held = [NONE; SLOTS];
     for (k, c) in chunks.iter().enumerate() {
-        log.prepare += prepare(scene, setup, c, cache, counter)?;
-        let v = &cache[..c.0.len()];
+        log.prepare += prepare(scene, setup, c, &mut slots[0][..], counter)?;
+        held[0] = k as u8;
+        let v = &slots[0][..c.0.len()];
         if v.iter().all(|x| x.flags & OUTSIDE == 0) {
             // Only the vertices of triangles that may be drawn (`NEEDED`): a chunk
             // of back faces alone reaches no row.
@@ -431,8 +449,21 @@ fn frame<'s>(
             if (last as i32) < r.start || first as i32 >= r.end {
                 continue;
             }
-            let (prepare, draw, stats) =
-                prepare_and_draw(scene, setup, c, draw, strip, cache, counter)?;
+            let (slot, kept) = match held.iter().position(|&j| j as usize == k) {
+                Some(s) => (s, true),
+                None => (evict(&held, &reach, k, &r), false),
+            };
+            held[slot] = k as u8;
+            let (prepare, draw, stats) = prepare_and_draw(
+                scene,
+                setup,
+                c,
+                draw,
+                strip,
+                &mut slots[slot],
+                kept,
+                counter,
+            )?;
             log.prepare += prepare;
             log.draw += draw;
             log.stats.drawn += stats.drawn;
@@ -444,6 +475,32 @@ fn frame<'s>(
     }
     log.stats.triangles = chunks.iter().map(|c| c.2.len() as u32).sum();
     Ok(log)
+}
+
+/// The slot to prepare chunk `k` into while strip rows `r` are drawn: the one whose
+/// chunk is drawn again last (from `reach`, pass 1's rows; a chunk after `k` that
+/// reaches `r` is drawn again now, one whose rows end before `r.end` never), so
+/// that as few chunks as possible are prepared again.
+fn evict(
+    held: &[u8; SLOTS],
+    reach: &[(i16, i16); MAX_CHUNKS],
+    k: usize,
+    r: &core::ops::Range<i32>,
+) -> usize {
+    let next = |j: u8| {
+        if j == NONE {
+            return i32::MAX;
+        }
+        let (first, last) = (reach[j as usize].0 as i32, reach[j as usize].1 as i32);
+        if j as usize > k && last >= r.start && first < r.end {
+            r.start
+        } else if last >= r.end {
+            first.max(r.end)
+        } else {
+            i32::MAX
+        }
+    };
+    (0..SLOTS).max_by_key(|&s| next(held[s])).unwrap_or(0)
 }
 
 /// Runs the vertex stage of chunk `c` into `cache` from the frame's `setup`;
@@ -462,9 +519,11 @@ fn prepare(
     Ok(cost)
 }
 
-/// Runs the vertex stage of chunk `c` and draws it into the strip; returns the
+/// Runs the vertex stage of chunk `c` (or, when `kept`, only checks the cache that
+/// holds it, [`Frame::resume`]) and draws it into the strip; returns the
 /// instructions of both and the draw's statistics.
 #[inline(never)]
+#[allow(clippy::too_many_arguments)]
 fn prepare_and_draw<'s>(
     scene: &mut Scene<'static>,
     setup: &FrameSetup,
@@ -472,6 +531,7 @@ fn prepare_and_draw<'s>(
     draw: DrawFn<Rgb565Le, Strip<'s, Rgb565Le, fig::Depth>>,
     strip: &mut Strip<'s, Rgb565Le, fig::Depth>,
     cache: &mut [XfVertex],
+    kept: bool,
     counter: &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), &'static str> {
     scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
@@ -480,7 +540,11 @@ fn prepare_and_draw<'s>(
     // short of room (measured with `-Z emit-stack-sizes`).
     let t0 = counter.begin();
     mark_on();
-    let frame = Frame::<Rgb565Le>::prepare_from(scene, setup, cache);
+    let frame = if kept {
+        Frame::<Rgb565Le>::resume(scene, setup, cache)
+    } else {
+        Frame::<Rgb565Le>::prepare_from(scene, setup, cache)
+    };
     mark_off();
     let prepare = counter.since(t0);
     let frame = frame.map_err(|_| "prepare failed")?;

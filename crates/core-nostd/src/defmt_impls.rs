@@ -122,6 +122,7 @@ impl Format for RenderError {
             RenderError::TwoSidedUnsupported => write!(f, "TwoSidedUnsupported"),
             RenderError::NoDepthBuffer => write!(f, "NoDepthBuffer"),
             RenderError::SetupMismatch => write!(f, "SetupMismatch"),
+            RenderError::CacheNotPrepared => write!(f, "CacheNotPrepared"),
         }
     }
 }

@@ -5,9 +5,10 @@
 use crate::arrays;
 use core::marker::PhantomData;
 
-use crate::geometry::{Projector, Viewport};
+use crate::geometry::{Projector, Viewport, DEPTH_SCALE};
 use crate::light::LightingSetup;
 use crate::math::{mul_wide_16, normalize_to_q30, Affine3, Mat4, Vec3, VertexTransform, ONE_Q30};
+use crate::raster::vertex::GUARD;
 use crate::raster::ScreenVertex;
 use crate::scene::{Object, Projection, Scene, MAX_OBJECTS};
 use crate::specular::{BlinnExact, Specular};
@@ -333,6 +334,9 @@ pub enum RenderError {
     /// A [`FrameSetup`] used with a scene it was not made for (another number of
     /// objects, or a mesh of another bound), or made for more objects than it holds.
     SetupMismatch,
+    /// A cache given to [`Frame::resume`] holds a vertex the vertex stage does not
+    /// write (a position outside the guard band, a depth or colour out of range).
+    CacheNotPrepared,
 }
 
 impl core::fmt::Display for RenderError {
@@ -365,6 +369,9 @@ impl core::fmt::Display for RenderError {
             RenderError::SetupMismatch => f.write_str(
                 "the frame setup was not made for this scene (objects or mesh bounds differ)",
             ),
+            RenderError::CacheNotPrepared => {
+                f.write_str("the vertex cache holds a vertex no vertex stage wrote")
+            }
         }
     }
 }
@@ -608,14 +615,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         setup: &FrameSetup<Sp, N>,
         cache: &'c mut [XfVertex],
     ) -> Result<Self, RenderError> {
-        if setup.size() == (0, 0)
-            || setup.objects.len() != scene.objects.len()
-            || setup
-                .objects
-                .iter()
-                .zip(scene.objects.iter())
-                .any(|(s, o)| s.bound != o.mesh.bound())
-        {
+        if !setup.fits(scene) {
             return Err(RenderError::SetupMismatch);
         }
         Frame::run(
@@ -626,6 +626,105 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             &setup.map,
             Some(&setup.objects),
         )
+    }
+
+    /// The frame whose vertex stage [`Frame::prepare_from`] has already run into
+    /// `cache` for `scene` and `setup`, without running it again: the same frame,
+    /// drawing the same bytes.
+    ///
+    /// For firmware that prepares the chunks of a mesh into a few caches and draws
+    /// each chunk in many bands: a chunk whose cache is still there is drawn again
+    /// from it, for a pass over its vertices instead of the vertex stage. The scene
+    /// must be the one the cache was prepared for (its meshes swapped for the same
+    /// chunks); the checks are [`Frame::prepare_from`]'s and a range check of every
+    /// vertex the draw reads, so a cache of anything else either draws wrong but
+    /// in-range triangles or is refused; it never panics.
+    ///
+    /// ```
+    /// use fixshade::prelude::*;
+    /// use fixshade::render::FrameSetup;
+    /// # let scene = fixshade::doc_support::scene();
+    /// let setup: FrameSetup = FrameSetup::new(&scene, 64, 48).unwrap();
+    /// let mut cache = [XfVertex::default(); 3];
+    /// let (mut a, mut b) = ([0u8; 64 * 48], [0u8; 64 * 48]);
+    /// let (mut za, mut zb) = ([0xFFFFu16; 64 * 48], [0xFFFFu16; 64 * 48]);
+    /// let frame = Frame::<Gray8>::prepare_from(&scene, &setup, &mut cache).unwrap();
+    /// frame.draw::<Gradient, _>(&mut Framebuffer::new(&mut a, Some(&mut za), 64, 48).unwrap()).unwrap();
+    /// drop(frame);
+    /// // Later, with the cache untouched: no vertex stage.
+    /// let frame = Frame::<Gray8>::resume(&scene, &setup, &cache).unwrap();
+    /// frame.draw::<Gradient, _>(&mut Framebuffer::new(&mut b, Some(&mut zb), 64, 48).unwrap()).unwrap();
+    /// assert_eq!(a, b);
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// As [`Frame::prepare_from`], and [`RenderError::CacheNotPrepared`] when a
+    /// vertex of `cache` is out of the vertex stage's range.
+    pub fn resume<const N: usize>(
+        scene: &'s Scene<'a>,
+        setup: &FrameSetup<Sp, N>,
+        cache: &'c [XfVertex],
+    ) -> Result<Self, RenderError> {
+        if !setup.fits(scene) {
+            return Err(RenderError::SetupMismatch);
+        }
+        let count = scene.vertex_count();
+        let needed = Frame::<P, Sp>::cache_len(scene);
+        if cache.len() < needed {
+            return Err(RenderError::CacheTooSmall { needed });
+        }
+        let (front, back) = cache[..needed].split_at(count);
+        // What the vertex stage writes: positions inside the guard band and depths
+        // inside the depth range (unless `OUTSIDE`, whose triangles the clipper
+        // takes from the mesh), colour channels within [0, 2^30) (the lattice's
+        // range). Two-sided lighting writes only the colours of the back half.
+        let colour = |v: &XfVertex| v.s.c.iter().all(|&c| (c as u32) < 1 << 30);
+        let position = |v: &XfVertex| {
+            v.flags & OUTSIDE != 0
+                || (v.s.x.unsigned_abs() < GUARD as u32
+                    && v.s.y.unsigned_abs() < GUARD as u32
+                    && v.s.z as i64 <= DEPTH_SCALE)
+        };
+        if !front.iter().all(|v| position(v) && colour(v)) || !back.iter().all(colour) {
+            return Err(RenderError::CacheNotPrepared);
+        }
+        Ok(Frame::assemble(
+            scene,
+            cache,
+            &setup.view,
+            &setup.proj,
+            &setup.map,
+        ))
+    }
+
+    /// The frame of `scene` over its prepared `cache`, in the frame of `view`,
+    /// `proj` and `map`.
+    #[inline(always)]
+    fn assemble(
+        scene: &'s Scene<'a>,
+        cache: &'c [XfVertex],
+        view: &Mat4,
+        proj: &Mat4,
+        map: &Projector,
+    ) -> Self {
+        let mut offsets = heapless::Vec::new();
+        let mut offset = 0;
+        for obj in scene.objects.iter() {
+            // Capacity equals the scene's object capacity.
+            let _ = offsets.push(offset);
+            offset += obj.mesh.positions().len();
+        }
+        Frame {
+            scene,
+            cache,
+            back: scene.vertex_count(),
+            offsets,
+            view: *view,
+            proj: *proj,
+            vp: *map,
+            _format: PhantomData,
+        }
     }
 
     /// The vertex stage's passes over every object of `scene` in the frame of
@@ -647,7 +746,6 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             return Err(RenderError::CacheTooSmall { needed });
         }
         let vp = *map.viewport();
-        let mut offsets = heapless::Vec::new();
         let mut offset = 0;
         let (front, back) = cache.split_at_mut(count);
         for (i, obj) in scene.objects.iter().enumerate() {
@@ -705,20 +803,9 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 let b = &mut back[offset..offset + pos.len()];
                 light_back::<P, Sp>(b, out, pos, mesh.normals(), aff, &back_light);
             }
-            // Capacity equals the scene's object capacity.
-            let _ = offsets.push(offset);
             offset += mesh.positions().len();
         }
-        Ok(Frame {
-            scene,
-            cache,
-            back: count,
-            offsets,
-            view: *view,
-            proj: *proj,
-            vp: *map,
-            _format: PhantomData,
-        })
+        Ok(Frame::assemble(scene, cache, view, proj, map))
     }
 }
 
@@ -904,6 +991,18 @@ impl<Sp: Specular, const N: usize> FrameSetup<Sp, N> {
     /// [`FrameSetup::EMPTY`]).
     pub fn size(&self) -> (u32, u32) {
         (self.map.width, self.map.height)
+    }
+
+    /// Whether this setup was made for a scene like `scene`: not empty, with as
+    /// many objects, each mesh of the same bound.
+    fn fits(&self, scene: &Scene<'_>) -> bool {
+        self.size() != (0, 0)
+            && self.objects.len() == scene.objects.len()
+            && self
+                .objects
+                .iter()
+                .zip(scene.objects.iter())
+                .all(|(s, o)| s.bound == o.mesh.bound())
     }
 }
 
