@@ -265,11 +265,15 @@ struct Chunk {
 }
 
 impl Chunk {
-    /// The chunk as a mesh with the whole mesh's `bound`.
-    fn mesh(&self, bound: i32) -> Mesh<'_> {
-        Mesh::new(&self.pos, &self.nrm, &self.tris)
+    /// `scene` with its first object's mesh swapped for this chunk, which carries
+    /// the whole mesh's bound.
+    fn scene<'p>(&'p self, scene: &Scene<'p>) -> Scene<'p> {
+        let mut part = scene.clone();
+        let bound = scene.objects[0].mesh.bound();
+        part.objects[0].mesh = Mesh::new(&self.pos, &self.nrm, &self.tris)
             .unwrap()
-            .with_bound(bound)
+            .with_bound(bound);
+        part
     }
 }
 
@@ -321,8 +325,7 @@ fn check_setup<Sp: Specular>(name: &str, scene: &Scene<'_>, (w, h): (u32, u32)) 
         let count = m.positions().len();
         for c in chunks(m) {
             let used = &c.used;
-            let mut part = alone.clone();
-            part.objects[0].mesh = c.mesh(m.bound());
+            let part = c.scene(&alone);
             let mut cache = vec![XfVertex::default(); Frame::<Rgb565Le, Sp>::cache_len(&part)];
             Frame::<Rgb565Le, Sp>::prepare_from(&part, &setup, &mut cache).unwrap();
             let back = (Sp::two_sided(), used.len(), count);
@@ -454,8 +457,7 @@ fn frames_resumed_from_a_prepared_cache_draw_the_same_bytes() {
         let (mut b, mut zb) = (vec![0u16; n], vec![u16::MAX; n]);
         let mut caches = Vec::new();
         for c in &parts {
-            let mut part = scene.clone();
-            part.objects[0].mesh = c.mesh(m.bound());
+            let part = c.scene(scene);
             let mut cache = vec![XfVertex::default(); Frame::<Rgb565Le, Sp>::cache_len(&part)];
             let frame = Frame::<Rgb565Le, Sp>::prepare_from(&part, &setup, &mut cache).unwrap();
             draw_into(&frame, &mut a, &mut za, (w, h));
@@ -463,8 +465,7 @@ fn frames_resumed_from_a_prepared_cache_draw_the_same_bytes() {
             caches.push(cache);
         }
         for (c, cache) in parts.iter().zip(&caches) {
-            let mut part = scene.clone();
-            part.objects[0].mesh = c.mesh(m.bound());
+            let part = c.scene(scene);
             let frame = Frame::<Rgb565Le, Sp>::resume(&part, &setup, cache).unwrap();
             draw_into(&frame, &mut b, &mut zb, (w, h));
         }
@@ -475,8 +476,7 @@ fn frames_resumed_from_a_prepared_cache_draw_the_same_bytes() {
         let mut swapped = 0;
         for (k, c) in parts.iter().enumerate().skip(1) {
             let prev = &caches[k - 1];
-            let mut part = scene.clone();
-            part.objects[0].mesh = c.mesh(m.bound());
+            let part = c.scene(scene);
             if prev.len() < Frame::<Rgb565Le, Sp>::cache_len(&part) {
                 continue;
             }

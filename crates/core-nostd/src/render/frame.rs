@@ -669,12 +669,8 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         if !setup.fits(scene) {
             return Err(RenderError::SetupMismatch);
         }
-        let count = scene.vertex_count();
-        let needed = Frame::<P, Sp>::cache_len(scene);
-        if cache.len() < needed {
-            return Err(RenderError::CacheTooSmall { needed });
-        }
-        let (front, back) = cache[..needed].split_at(count);
+        let needed = Self::checked_cache_len(scene, cache.len())?;
+        let (front, back) = cache[..needed].split_at(scene.vertex_count());
         // What the vertex stage writes: positions inside the guard band and depths
         // inside the depth range (unless `OUTSIDE`, whose triangles the clipper
         // takes from the mesh), colour channels within [0, 2^30) (the lattice's
@@ -741,10 +737,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     ) -> Result<Self, RenderError> {
         // Two-sided lighting keeps the back colours in a second half of the cache.
         let count = scene.vertex_count();
-        let needed = Frame::<P, Sp>::cache_len(scene);
-        if cache.len() < needed {
-            return Err(RenderError::CacheTooSmall { needed });
-        }
+        Self::checked_cache_len(scene, cache.len())?;
         let vp = *map.viewport();
         let mut offset = 0;
         let (front, back) = cache.split_at_mut(count);
@@ -1033,6 +1026,17 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         } else {
             scene.vertex_count()
         }
+    }
+
+    /// [`Frame::cache_len`] of `scene`, or [`RenderError::CacheTooSmall`] for a
+    /// cache of `len` entries that holds fewer.
+    #[inline(always)]
+    fn checked_cache_len(scene: &Scene<'_>, len: usize) -> Result<usize, RenderError> {
+        let needed = Self::cache_len(scene);
+        if len < needed {
+            return Err(RenderError::CacheTooSmall { needed });
+        }
+        Ok(needed)
     }
 
     /// Every object with what its draw needs of the vertex stage.
