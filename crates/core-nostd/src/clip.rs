@@ -233,16 +233,7 @@ pub fn signed_area(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> i64 {
 /// ```
 #[inline(always)]
 pub fn signed_area_i32(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> Option<i32> {
-    let (dx1, dy1) = (b.0 - a.0, b.1 - a.1);
-    let (dx2, dy2) = (c.0 - a.0, c.1 - a.1);
-    // |d| < 2^30, so d + 2^15 cannot overflow; it lies in [0, 2^16) exactly for d in
-    // [-2^15, 2^15), and any other d sets a bit at 2^16 or above (or the sign).
-    let h = 1 << 15;
-    let spread = (dx1 + h) | (dy1 + h) | (dx2 + h) | (dy2 + h);
-    if spread as u32 >> 16 != 0 {
-        return None;
-    }
-    Some(dx1 * dy2 - dx2 * dy1)
+    crate::math::cross_small(b.0 - a.0, b.1 - a.1, c.0 - a.0, c.1 - a.1)
 }
 
 #[cfg(test)]

@@ -19,7 +19,8 @@
 
 use crate::fixed::{Q16_16, Q2_14};
 use crate::math::{
-    leading_zeros, mul_hi, mul_hi_k, mul_wide, recip_q61, recip_refined, Mat4, Vec3, ZFromW,
+    leading_zeros, mul_hi, mul_hi_estimate, mul_hi_k, mul_wide, recip_q61, recip_refined, Mat4,
+    Vec3, ZFromW,
 };
 use crate::raster::GUARD;
 
@@ -309,13 +310,36 @@ impl Axis {
     }
 
     /// `k + ⌊c·k/w + ½⌋` exactly, from an estimate `s` within one of it (what the
-    /// reciprocal gives, near a rounding half): the remainder `2k·c + w − 2w·(s − k)`
-    /// lies in `[0, 2w)` exactly for the right value. `|2k·c|` < 2¹⁶·2³⁰ and
-    /// `|2w·(s − k)|` < 2³⁰·2¹⁷: two [`mul_wide`] products in `i64`. The vertex stage
-    /// and the clipper's projection both end here, so a vertex gets the same position
+    /// reciprocal gives, near a rounding half): the remainder `t = 2k·c + w −
+    /// 2w·(s − k)` lies in `[0, 2w)` exactly for the right value, in `[−2w, 0)` for
+    /// one too many and in `[2w, 4w)` for one too few. So `t + 2w` lies in `[0,
+    /// 6w)`, below 2³² since `w < 2^w_bits ≤ 2²⁹` (`g ≥ 1`), and is taken modulo
+    /// 2³² from 32-bit products ([`Self::exact_wide`] takes it in `i64`; both give
+    /// the same bits, checked on every call in debug builds). The vertex stage and
+    /// the clipper's projection both end here, so a vertex gets the same position
     /// on either path, and every position is the correctly rounded one.
     #[inline(always)]
     fn exact(&self, s: i32, c: i32, w: i32) -> i32 {
+        debug_assert!(self.g >= 1 && (1..1 << 29).contains(&w));
+        let w2 = (2 * w) as u32;
+        let u = (2 * self.k as u32)
+            .wrapping_mul(c as u32)
+            .wrapping_add(w2 + w as u32)
+            .wrapping_sub(w2.wrapping_mul((s - self.k) as u32));
+        let e = if u < w2 {
+            s - 1
+        } else if u >= 2 * w2 {
+            s + 1
+        } else {
+            s
+        };
+        debug_assert_eq!(e, self.exact_wide(s, c, w));
+        e
+    }
+
+    /// [`Self::exact`] with the remainder in `i64` (`|2k·c|` < 2¹⁶·2³⁰, `|2w·(s −
+    /// k)|` < 2³⁰·2¹⁷): the debug builds' check.
+    fn exact_wide(&self, s: i32, c: i32, w: i32) -> i32 {
         let t = 2 * mul_wide(self.k, c) + w as i64 - 2 * mul_wide(w, s - self.k);
         if t < 0 {
             s - 1
@@ -331,8 +355,13 @@ impl Axis {
     /// `k + ⌊(⌊cₙ·kr/2³²⌋ + 2ˢʰ⁻³³)/2ˢʰ⁻³²⌋` with `cₙ = c·2ⁿ⁻ᵍ` (below `w·2ⁿ` <
     /// 2³¹ once `|c| < w·2ᵍ`) and `kr = ⌊k16·r/2¹⁶⌋ ≈ k16·2⁴⁵/(w·2ⁿ)`
     /// ([`mul_hi_k`]): the product is below 2⁶¹ and the rounding bias lies in the
-    /// high word since `sh ≥ 34`. `None` outside the guard band; with `CLAMP`,
-    /// clamped into it instead.
+    /// high word since `sh ≥ 34`. That estimate ([`mul_hi_estimate`]: up to 2 below
+    /// the high word on ARMv6-M, up to 2⁻⁸ of a unit after the shift by `sh − 32 ≥ 9`)
+    /// is off the exact quotient by less than 2⁻⁶ of a unit (the reciprocal's error
+    /// is below 2⁻²⁶ of the quotient, which is below `k·2ᵍ` < 2¹⁹), so its rounding
+    /// is within one of the exact one, and [`Self::exact`] gives the exact one on
+    /// every core. `None` outside the guard band; with `CLAMP`, clamped into it
+    /// instead.
     #[inline(always)]
     fn screen<const CLAMP: bool>(&self, c: i32, w: i32, n: u32, r: i32) -> Option<i32> {
         let lim = GUARD - 1;
@@ -344,7 +373,7 @@ impl Axis {
             };
         }
         let cn = c << (n - self.g);
-        let s = self.k + ((mul_hi(cn, mul_hi_k(self.kh, r)) + self.bias) >> self.shift);
+        let s = self.k + ((mul_hi_estimate(cn, mul_hi_k(self.kh, r)) + self.bias) >> self.shift);
         let s = self.exact(s, c, w);
         if s.unsigned_abs() >= GUARD as u32 {
             return if CLAMP {
@@ -687,8 +716,9 @@ impl Projector {
         }
         let n = leading_zeros(w as u32) - 1;
         let r = recip_refined((w as u32) << n);
-        let sx = ax.k + ((mul_hi(x << (n - ax.g), mul_hi_k(ax.kh, r)) + ax.bias) >> ax.shift);
-        let sy = ay.k + ((mul_hi(-y << (n - ay.g), mul_hi_k(ay.kh, r)) + ay.bias) >> ay.shift);
+        let est = |c: i32, a: &Axis| mul_hi_estimate(c << (n - a.g), mul_hi_k(a.kh, r));
+        let sx = ax.k + ((est(x, ax) + ax.bias) >> ax.shift);
+        let sy = ay.k + ((est(-y, ay) + ay.bias) >> ay.shift);
         let (sx, sy) = (ax.exact(sx, x, w), ay.exact(sy, -y, w));
         // Both inside exactly when the OR of their magnitudes is (a power of two).
         const _: () = assert!(GUARD.count_ones() == 1);

@@ -342,7 +342,9 @@ pub fn recip_q61(m: u32) -> u32 {
     while k < 2 {
         let e = (1i64 << 61) - mul_wide_u(m, r) as i64;
         let next = r as i64 + (mul_wide(r as i32, (e >> 29) as i32) >> 32);
-        r = next.min(i32::MAX as i64) as u32;
+        // `next` is positive (r moves by less than 2^-8 of itself): the clamp as
+        // `u64` tells the compiler the result's high word is zero.
+        r = (next as u64).min(i32::MAX as u64) as u32;
         k += 1;
     }
     r
@@ -464,6 +466,50 @@ pub fn mul_hi(a: i32, b: i32) -> i32 {
     {
         ((a as i64 * b as i64) >> 32) as i32
     }
+}
+
+/// `⌊a·b / 2³²⌋` less 0, 1 or 2, for a value that is corrected afterwards (the
+/// projection's estimate, which [`crate::geometry::Projector`] rounds exactly from
+/// any estimate within one unit): [`mul_hi`] where the core has a 32×32→64
+/// product; on ARMv6-M three 16×16-bit products, `ah·bh + ⌊ah·bl/2¹⁶⌋ +
+/// ⌊al·bh/2¹⁶⌋`, without the low product and the carries (each floor drops less
+/// than one, `al·bl/2³²` is below one: the sum lies within 3 below the exact
+/// quotient, so its floor within 2; tested).
+#[inline(always)]
+pub(crate) fn mul_hi_estimate(a: i32, b: i32) -> i32 {
+    #[cfg(fixshade_v6m)]
+    {
+        mul_hi_estimate_split(a, b)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        mul_hi(a, b)
+    }
+}
+
+/// [`mul_hi_estimate`] from three 16×16-bit products.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+pub(crate) fn mul_hi_estimate_split(a: i32, b: i32) -> i32 {
+    let (ah, al) = (a >> 16, a & 0xFFFF);
+    let (bh, bl) = (b >> 16, b & 0xFFFF);
+    ah * bh + ((ah * bl) >> 16) + ((al * bh) >> 16)
+}
+
+/// `dx1·dy2 − dx2·dy1` from two 32-bit products when every delta lies in [−2¹⁵,
+/// 2¹⁵) and `|d| < 2³⁰` (each product then lies in [−2³⁰ + 2¹⁵, 2³⁰], the
+/// difference strictly inside ±2³¹); `None` for larger deltas. The small case of
+/// [`crate::clip::signed_area_i32`] and of the triangle setup's determinant.
+#[inline(always)]
+pub(crate) fn cross_small(dx1: i32, dy1: i32, dx2: i32, dy2: i32) -> Option<i32> {
+    // |d| < 2^30, so d + 2^15 cannot overflow; it lies in [0, 2^16) exactly for d in
+    // [-2^15, 2^15), and any other d sets a bit at 2^16 or above (or the sign).
+    let h = 1 << 15;
+    let spread = (dx1 + h) | (dy1 + h) | (dx2 + h) | (dy2 + h);
+    if spread as u32 >> 16 != 0 {
+        return None;
+    }
+    Some(dx1 * dy2 - dx2 * dy1)
 }
 
 /// [`mul_hi`] from 16×16-bit products: with `a = ah·2¹⁶ + al` and `b = bh·2¹⁶ +
@@ -1682,23 +1728,25 @@ mod tests {
         *seed
     }
 
+    /// Factors at the edges of the 16-bit halves and of `i32`.
+    const EDGES: [i32; 10] = [
+        0,
+        1,
+        -1,
+        0xFFFF,
+        0x10000,
+        -0x10000,
+        i32::MAX,
+        i32::MIN,
+        0x7FFF,
+        -0x8000,
+    ];
+
     #[test]
     fn split_products_equal_native() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let edges = [
-            0,
-            1,
-            -1,
-            0xFFFF,
-            0x10000,
-            -0x10000,
-            i32::MAX,
-            i32::MIN,
-            0x7FFF,
-            -0x8000,
-        ];
-        for &a in &edges {
-            for &b in &edges {
+        for &a in &EDGES {
+            for &b in &EDGES {
                 assert_eq!(mul_wide_split(a, b), a as i64 * b as i64, "{a} {b}");
                 let (ua, ub) = (a as u32, b as u32);
                 assert_eq!(mul_wide_u_split(ua, ub), ua as u64 * ub as u64);
@@ -1768,23 +1816,32 @@ mod tests {
         }
     }
 
+    /// The estimate lies within 2 below the exact high word, for the extremes and a
+    /// million random factors.
+    #[test]
+    fn mul_hi_estimate_split_within_two_below() {
+        let check = |a: i32, b: i32| {
+            let exact = (a as i64 * b as i64) >> 32;
+            let e = mul_hi_estimate_split(a, b) as i64;
+            assert!((exact - 2..=exact).contains(&e), "{a} {b}: {e} vs {exact}");
+        };
+        for &a in &EDGES {
+            for &b in &EDGES {
+                check(a, b);
+            }
+        }
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..1_000_000 {
+            let r = xorshift(&mut seed);
+            check(r as i32 >> (r >> 59), (r >> 32) as i32 >> ((r >> 54) & 31));
+        }
+    }
+
     #[test]
     fn mul_hi_split_equals_native() {
         let mut seed = 0x7f4a_7c15_9e37_79b9u64;
-        let edges = [
-            0,
-            1,
-            -1,
-            0xFFFF,
-            0x10000,
-            -0x10000,
-            i32::MAX,
-            i32::MIN,
-            0x7FFF,
-            -0x8000,
-        ];
-        for &a in &edges {
-            for &b in &edges {
+        for &a in &EDGES {
+            for &b in &EDGES {
                 assert_eq!(
                     mul_hi_split(a, b),
                     ((a as i64 * b as i64) >> 32) as i32,

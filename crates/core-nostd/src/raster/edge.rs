@@ -78,18 +78,24 @@ impl EdgeStepper {
         let qx = top.0 >> 4;
         let fx = top.0 & 15;
         let off = 16 * y + 8 - top.1; // |off| < 2^18 within the guard band
-                                      // With |dx|, |off| < 2^15 every term fits i32 (|dx·off| < 2^30, the others
-                                      // below 2^21): the usual case, no 64-bit product.
-        let n = if (dx.unsigned_abs() | off.unsigned_abs()) < 1 << 15 {
-            ((fx - 8) * dy + dx * off) as i64
+                                      // ⌈n/d⌉ when it is 0 or 1 (the usual case on a small triangle): no division.
+        let unit = |n: i32| {
+            let q = (n > 0) as i32;
+            (q, q * d - n)
+        };
+        // With |dx|, |off| < 2^15 every term fits i32 (|dx·off| < 2^30, the others
+        // below 2^21): the usual case, no 64-bit product and no 64-bit comparison.
+        let small = (dx.unsigned_abs() | off.unsigned_abs()) < 1 << 15;
+        let n32 = ((fx - 8) * dy).wrapping_add(dx.wrapping_mul(off)); // used when small
+        let n = if small {
+            n32 as i64
         } else {
             ((fx - 8) * dy) as i64 + mul_wide(dx, off)
         };
-        let (q, r) = if -(d as i64) < n && n <= d as i64 {
-            // ⌈n/d⌉ is 0 or 1 (the usual case on a small triangle): no division.
-            let n32 = n as i32;
-            let q = (n32 > 0) as i32;
-            (q, q * d - n32)
+        let (q, r) = if small && -d < n32 && n32 <= d {
+            unit(n32)
+        } else if -(d as i64) < n && n <= d as i64 {
+            unit(n as i32)
         } else if n.unsigned_abs() < 1 << 31 {
             // ⌈n/d⌉ = −⌊−n/d⌋: an unsigned division of |n| by d, signs fixed.
             let (m, rem) = div_rem_u32(n.unsigned_abs() as u32, d as u32);
@@ -109,6 +115,13 @@ impl EdgeStepper {
             let q = ceil_div(n, d as i64);
             (q as i32, (q * d as i64 - n) as i32)
         };
+        EdgeStepper::with_start(qx + q, r, d, dx)
+    }
+
+    /// The stepper from its start (`q`, `r`) on the first row and the edge's `d =
+    /// 16·dy` and `dx`: the per-row step `⌊16·dx/d⌋` and its remainder.
+    #[inline(always)]
+    fn with_start(q: i32, r: i32, d: i32, dx: i32) -> EdgeStepper {
         // 16·|dx| < 2^21: the step division fits 32 bits.
         let step = 16 * dx;
         // ⌊step/d⌋ without a division when it is 0 or −1 (|dx| ≤ dy, the usual case).
@@ -125,13 +138,7 @@ impl EdgeStepper {
             }
         };
         let b = step - a * d;
-        EdgeStepper {
-            q: qx + q,
-            r,
-            d,
-            a,
-            b,
-        }
+        EdgeStepper { q, r, d, a, b }
     }
 
     /// Moves to the next row; returns true if `q` took the extra (diagonal) step.

@@ -381,8 +381,19 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
     }
     let (dx1, dy1) = (m.x - t.x, m.y - t.y);
     let (dx2, dy2) = (b.x - t.x, b.y - t.y);
-    // |d| < 2^17 (guard band): products below 2^34, det below 2^35.
-    let det = mul_wide(dx1, dy2) - mul_wide(dx2, dy1);
+    // |d| < 2^17 (guard band): products below 2^34, det below 2^35. On ARMv6-M,
+    // where a 64-bit product is four 16×16-bit ones, edges under 2^15 subpixels
+    // (the usual case) take two 32-bit products instead (`cross_small`, the same
+    // value: |det| < 2^31).
+    let wide = || mul_wide(dx1, dy2) - mul_wide(dx2, dy1);
+    let det = if cfg!(fixshade_v6m) {
+        match crate::math::cross_small(dx1, dy1, dx2, dy2) {
+            Some(a) => a as i64,
+            None => wide(),
+        }
+    } else {
+        wide()
+    };
     if det == 0 {
         return None;
     }
@@ -408,8 +419,9 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
         acc | (((v >> 32) as i32) ^ ((v >> 63) as i32)) as u32
     });
     let sh_t = 34 - leading_zeros(hmax);
+    let round_t = RoundShift::new(sh_t);
     let bb = arrays::map(p, |v| {
-        let q = round_shift(v, sh_t);
+        let q = round_t.apply(v);
         if neg {
             -q
         } else {
@@ -447,18 +459,18 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
     // 2^60, the sum 2^61.
     let mut gx = [0i32; ATTRS];
     let mut gy = [0i32; ATTRS];
+    let round = RoundShift::new(sh);
     for k in 0..3 {
-        (gx[k], gy[k]) = increments(d1[k], d2[k], &bb, sh);
+        (gx[k], gy[k]) = increments(d1[k], d2[k], &bb, &round);
     }
-    (gx[3], gy[3]) = increments(z1, z2, &bb, sh - 2);
+    (gx[3], gy[3]) = increments(z1, z2, &bb, &RoundShift::new(sh - 2));
     let anchor = (first_row(t.x), first_row(t.y));
-    // Offsets of the anchor centre from the top vertex, in [0, 16) subpixels;
-    // |g| < 2^31, so each product is a mul_wide below 2^35.
+    // Offsets of the anchor centre from the top vertex, in [0, 16) subpixels.
     let ox = 16 * anchor.0 + 8 - t.x;
     let oy = 16 * anchor.1 + 8 - t.y;
     let a0 = [t.c[0], t.c[1], t.c[2], t.z as i32];
     let a = arrays::from_fn(|k| {
-        let off = ((mul_wide(gx[k], ox) + mul_wide(gy[k], oy) + 8) >> 4) as i32;
+        let off = anchor_offset(gx[k], gy[k], ox, oy);
         // Modulo 2^32 by design (the depth is unsigned).
         a0[k].wrapping_add(off).wrapping_add(ROUND_BIAS)
     });
@@ -473,34 +485,93 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
     })
 }
 
+/// `⌊(gx·ox + gy·oy + 8)/16⌋` modulo 2³² for offsets `ox`, `oy` in [0, 16): the
+/// change of an attribute from the top vertex to the anchor's centre. The exact
+/// sum (|g| < 2³¹, products below 2³⁵) on the host and ARMv7-M, where a 32×32→64
+/// product is one instruction; on ARMv6-M ([`anchor_offset_split`]) from 32-bit
+/// products modulo 2³². Both give the same bits (tested).
+#[inline(always)]
+fn anchor_offset(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
+    debug_assert!((0..16).contains(&ox) && (0..16).contains(&oy));
+    #[cfg(fixshade_v6m)]
+    {
+        anchor_offset_split(gx, gy, ox, oy)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        ((mul_wide(gx, ox) + mul_wide(gy, oy) + 8) >> 4) as i32
+    }
+}
+
+/// [`anchor_offset`] without a 64-bit product: with `g = 16·h + l` (`h = g >> 4`,
+/// `l = g & 15`), `g·o = 16·h·o + l·o`, so the quotient is `h_x·o_x + h_y·o_y` (taken
+/// modulo 2³²) plus `⌊(l_x·o_x + l_y·o_y + 8)/16⌋` (the sum below 2⁹): four
+/// `MULS` instead of two 64-bit products.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+fn anchor_offset_split(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
+    let high = (gx >> 4)
+        .wrapping_mul(ox)
+        .wrapping_add((gy >> 4).wrapping_mul(oy));
+    high.wrapping_add(((gx & 15) * ox + (gy & 15) * oy + 8) >> 4)
+}
+
 /// One attribute's increments from its deltas `d₁`, `d₂` and the basis `b`:
 /// `round((d₁·b₀ + d₂·b₁)/2^sh)` and `round((d₁·b₂ + d₂·b₃)/2^sh)` (see
-/// [`setup_fast`] for the bounds). Kept out of line: one attribute at a time keeps
-/// the 64-bit sums in registers, where the four inlined side by side spill.
-#[inline(never)]
-fn increments(d1: i32, d2: i32, b: &[i32; 4], sh: u32) -> (i32, i32) {
+/// [`setup_fast`] for the bounds). Kept out of line on ARMv6-M: one attribute at a
+/// time keeps the 64-bit sums in registers, where the four inlined side by side
+/// spill; inlined on the other cores, where each sum is two `SMLAL`.
+#[cfg_attr(fixshade_v6m, inline(never))]
+#[cfg_attr(not(fixshade_v6m), inline(always))]
+fn increments(d1: i32, d2: i32, b: &[i32; 4], round: &RoundShift) -> (i32, i32) {
     if d1 == 0 && d2 == 0 {
         return (0, 0);
     }
     (
-        round_shift(mul_wide(d1, b[0]) + mul_wide(d2, b[1]), sh),
-        round_shift(mul_wide(d1, b[2]) + mul_wide(d2, b[3]), sh),
+        round.apply(mul_wide(d1, b[0]) + mul_wide(d2, b[1])),
+        round.apply(mul_wide(d1, b[2]) + mul_wide(d2, b[3])),
     )
 }
 
-/// `round(n / 2^sh)` (half up) for `1 ≤ sh < 63`, as `i32` (the caller knows it fits)
-/// from 32-bit halves: with `sh ≥ 32` the high word of `n + 2^(sh−1)` shifted by
-/// `sh − 32` (nested floors), below 32 the low word of the shifted sum. No 64-bit
-/// shift by a variable amount (a helper call on ARMv6-M, a branchy sequence on
-/// ARMv7-M).
-#[inline(always)]
-fn round_shift(n: i64, sh: u32) -> i32 {
-    let n = n + bit_i64(sh - 1);
-    let (hi, lo) = ((n >> 32) as i32, n as u32);
-    if sh >= 32 {
-        hi >> (sh - 32)
-    } else {
-        ((lo >> sh) | ((hi as u32) << (32 - sh))) as i32
+/// `round(n / 2^sh)` (half up) for `1 ≤ sh < 63`, as `i32` (the caller knows it
+/// fits). The bias `2^(sh−1)` is made once for the sums rounded by the same shift,
+/// except on ARMv6-M, where it is made where it is added: there a 64-bit value
+/// held across the products would take two of the eight low registers and spill
+/// the sums (about 190 k more instructions on `bench-sphere-128x80`).
+#[derive(Copy, Clone)]
+struct RoundShift {
+    sh: u32,
+    #[cfg(not(fixshade_v6m))]
+    bias: i64,
+}
+
+impl RoundShift {
+    #[inline(always)]
+    fn new(sh: u32) -> RoundShift {
+        debug_assert!((1..63).contains(&sh));
+        RoundShift {
+            sh,
+            #[cfg(not(fixshade_v6m))]
+            bias: bit_i64(sh - 1),
+        }
+    }
+
+    /// From 32-bit halves: with `sh ≥ 32` the high word of `n + 2^(sh−1)` shifted by
+    /// `sh − 32` (nested floors), below 32 the low word of the shifted sum. No
+    /// 64-bit shift by a variable amount (a helper call on ARMv6-M, a branchy
+    /// sequence on ARMv7-M).
+    #[inline(always)]
+    fn apply(&self, n: i64) -> i32 {
+        #[cfg(fixshade_v6m)]
+        let n = n + bit_i64(self.sh - 1);
+        #[cfg(not(fixshade_v6m))]
+        let n = n + self.bias;
+        let (hi, lo) = ((n >> 32) as i32, n as u32);
+        if self.sh >= 32 {
+            hi >> (self.sh - 32)
+        } else {
+            ((lo >> self.sh) | ((hi as u32) << (32 - self.sh))) as i32
+        }
     }
 }
 
@@ -546,4 +617,42 @@ pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Set
             .all(|g| i32::try_from(*g).is_ok()),
     };
     Some((s, det))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The split anchor offset against the exact 64-bit sum: every offset pair, the
+    /// extreme gradients and a million random ones.
+    #[test]
+    fn anchor_offset_split_equals_wide() {
+        let wide = |gx: i32, gy: i32, ox: i32, oy: i32| {
+            ((gx as i64 * ox as i64 + gy as i64 * oy as i64 + 8) >> 4) as i32
+        };
+        let edges = [0, 1, -1, 15, -16, 0xFFFF, -0x10000, i32::MAX, i32::MIN];
+        for &gx in &edges {
+            for &gy in &edges {
+                for ox in 0..16 {
+                    for oy in 0..16 {
+                        assert_eq!(
+                            anchor_offset_split(gx, gy, ox, oy),
+                            wide(gx, gy, ox, oy),
+                            "{gx} {gy} {ox} {oy}"
+                        );
+                    }
+                }
+            }
+        }
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..1_000_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let (gx, gy) = (seed as i32 >> (seed >> 59), (seed >> 32) as i32);
+            let (ox, oy) = ((seed >> 40) as i32 & 15, (seed >> 44) as i32 & 15);
+            assert_eq!(anchor_offset_split(gx, gy, ox, oy), wide(gx, gy, ox, oy));
+            assert_eq!(anchor_offset(gx, gy, ox, oy), wide(gx, gy, ox, oy));
+        }
+    }
 }
