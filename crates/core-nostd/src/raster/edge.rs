@@ -71,14 +71,16 @@ impl EdgeStepper {
     pub fn new(top: (i32, i32), bottom: (i32, i32), y: i32) -> EdgeStepper {
         let dx = bottom.0 - top.0;
         let dy = bottom.1 - top.1;
-        let d = 16 * dy; // < 2^21
-                         // N relative to the whole pixel left of the top vertex, so that near the top
-                         // vertex it fits i32 and an i32 division does: q = qx + ⌈N' / d⌉ with
-                         // N' = fx·dy + dx·(yc − y0) − 8·dy, fx = x0 − 16·qx in [0, 16).
+        // d < 2^21.
+        let d = 16 * dy;
+        // N relative to the whole pixel left of the top vertex, so that near the top
+        // vertex it fits i32 and an i32 division does: q = qx + ⌈N' / d⌉ with
+        // N' = fx·dy + dx·(yc − y0) − 8·dy, fx = x0 − 16·qx in [0, 16).
         let qx = top.0 >> 4;
         let fx = top.0 & 15;
-        let off = 16 * y + 8 - top.1; // |off| < 2^18 within the guard band
-                                      // ⌈n/d⌉ when it is 0 or 1 (the usual case on a small triangle): no division.
+        // |off| < 2^18 within the guard band.
+        let off = 16 * y + 8 - top.1;
+        // ⌈n/d⌉ when it is 0 or 1 (the usual case on a small triangle): no division.
         let unit = |n: i32| {
             let q = (n > 0) as i32;
             (q, q * d - n)
