@@ -350,9 +350,17 @@ impl Axis {
         }
     }
 
+    /// [`Self::screen`]'s estimate of `k + ⌊c·k/w + ½⌋` before [`Self::exact`] (`|c| <
+    /// w·2ᵍ`; `n`, `r` as there).
+    #[inline(always)]
+    fn estimate(&self, c: i32, n: u32, r: i32) -> i32 {
+        let cn = c << (n - self.g);
+        self.k + ((mul_hi_estimate(cn, mul_hi_k(self.kh, r)) + self.bias) >> self.shift)
+    }
+
     /// The screen coordinate of `c` at `w` (`0 < w < 2³⁰⁻ᵍ`, `n = lz(w) − 1`, `r` =
     /// [`recip_refined`] of `w·2ⁿ`): `k + ⌊c·k/w + ½⌋`, computed as
-    /// `k + ⌊(⌊cₙ·kr/2³²⌋ + 2ˢʰ⁻³³)/2ˢʰ⁻³²⌋` with `cₙ = c·2ⁿ⁻ᵍ` (below `w·2ⁿ` <
+    /// `k + ⌊(⌊cₙ·kr/2³²⌋ + 2ˢʰ⁻³³)/2ˢʰ⁻³²⌋` ([`Self::estimate`]) with `cₙ = c·2ⁿ⁻ᵍ` (below `w·2ⁿ` <
     /// 2³¹ once `|c| < w·2ᵍ`) and `kr = ⌊k16·r/2¹⁶⌋ ≈ k16·2⁴⁵/(w·2ⁿ)`
     /// ([`mul_hi_k`]): the product is below 2⁶¹ and the rounding bias lies in the
     /// high word since `sh ≥ 34`. That estimate ([`mul_hi_estimate`]: up to 2 below
@@ -372,9 +380,7 @@ impl Axis {
                 None
             };
         }
-        let cn = c << (n - self.g);
-        let s = self.k + ((mul_hi_estimate(cn, mul_hi_k(self.kh, r)) + self.bias) >> self.shift);
-        let s = self.exact(s, c, w);
+        let s = self.exact(self.estimate(c, n, r), c, w);
         if s.unsigned_abs() >= GUARD as u32 {
             return if CLAMP {
                 Some(s.clamp(-lim, lim))
@@ -716,9 +722,7 @@ impl Projector {
         }
         let n = leading_zeros(w as u32) - 1;
         let r = recip_refined((w as u32) << n);
-        let est = |c: i32, a: &Axis| mul_hi_estimate(c << (n - a.g), mul_hi_k(a.kh, r));
-        let sx = ax.k + ((est(x, ax) + ax.bias) >> ax.shift);
-        let sy = ay.k + ((est(-y, ay) + ay.bias) >> ay.shift);
+        let (sx, sy) = (ax.estimate(x, n, r), ay.estimate(-y, n, r));
         let (sx, sy) = (ax.exact(sx, x, w), ay.exact(sy, -y, w));
         // Both inside exactly when the OR of their magnitudes is (a power of two).
         const _: () = assert!(GUARD.count_ones() == 1);

@@ -117,13 +117,6 @@ impl EdgeStepper {
             let q = ceil_div(n, d as i64);
             (q as i32, (q * d as i64 - n) as i32)
         };
-        EdgeStepper::with_start(qx + q, r, d, dx)
-    }
-
-    /// The stepper from its start (`q`, `r`) on the first row and the edge's `d =
-    /// 16·dy` and `dx`: the per-row step `⌊16·dx/d⌋` and its remainder.
-    #[inline(always)]
-    fn with_start(q: i32, r: i32, d: i32, dx: i32) -> EdgeStepper {
         // 16·|dx| < 2^21: the step division fits 32 bits.
         let step = 16 * dx;
         // ⌊step/d⌋ without a division when it is 0 or −1 (|dx| ≤ dy, the usual case).
@@ -140,7 +133,13 @@ impl EdgeStepper {
             }
         };
         let b = step - a * d;
-        EdgeStepper { q, r, d, a, b }
+        EdgeStepper {
+            q: qx + q,
+            r,
+            d,
+            a,
+            b,
+        }
     }
 
     /// Moves to the next row; returns true if `q` took the extra (diagonal) step.
