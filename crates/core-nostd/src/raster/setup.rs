@@ -209,9 +209,8 @@ pub fn setup_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<Setup> {
 /// rejected whatever their order.
 #[inline(always)]
 fn order3(v: [&ScreenVertex; 3]) -> [usize; 3] {
-    // (y, x) as one i64 key: y above x, x biased to be non-negative.
-    let key = |p: &ScreenVertex| ((p.y as i64) << 32) + (p.x as i64 - i32::MIN as i64);
-    let k = [key(v[0]), key(v[1]), key(v[2])];
+    // (y, x) compared in order: two 32-bit comparisons, no 64-bit key.
+    let k = [(v[0].y, v[0].x), (v[1].y, v[1].x), (v[2].y, v[2].x)];
     let mut o = [0, 1, 2];
     if k[o[1]] < k[o[0]] {
         o.swap(0, 1);

@@ -239,56 +239,98 @@ fn vertex(s: Option<(i32, i32, u32)>) -> XfVertex {
     }
 }
 
+/// The triangles the cull pass ([`mark_needed`]) dropped over the whole frame, by
+/// reason, of those with no vertex [`OUTSIDE`]: with them the walk counts the
+/// triangles it skips on the flags alone (see [`Frame::walk`]).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub(super) struct Dropped {
+    /// Back faces (with culling).
+    pub(super) back: u32,
+    /// Zero area.
+    pub(super) degenerate: u32,
+}
+
+impl core::ops::AddAssign for Dropped {
+    fn add_assign(&mut self, o: Dropped) {
+        self.back += o.back;
+        self.degenerate += o.degenerate;
+    }
+}
+
 /// The vertex stage's cull pass: marks [`NEEDED`] the vertices of every triangle
 /// that [`classify_refs`] over the whole frame does not skip (`CULL`: the scene
 /// culls back faces), with the same tests in a cheaper form: the flags first (only
 /// with `OUTSIDE`: some vertex of the mesh is), then the sign of the area (`SMALL`:
 /// with 32-bit products when the edges are under 2048 pixels), then the frame's
 /// edges, each a comparison of the three vertices that stops at the first one
-/// inside (the bounding-box test without the minima and maxima).
+/// inside (the bounding-box test without the minima and maxima). Returns how many
+/// it dropped as back faces and for zero area (the reasons `classify_refs` gives
+/// first; the rest it dropped lie outside the frame).
 #[inline(never)]
 fn mark_needed<const CULL: bool, const OUTSIDE_ANY: bool, const SMALL: bool>(
     out: &mut [XfVertex],
     tris: &[[u16; 3]],
     vp: &Viewport,
-) {
+) -> Dropped {
     // Pixel centres at 16k + 8 (see `classify_refs`).
     let (right, bottom) = (16 * vp.width as i32 - 8, 16 * vp.height as i32 - 8);
+    // Counted on the rarer paths (a back face, the usual drop, costs nothing more):
+    // the triangles with a vertex outside, the zero areas and, with culling, the
+    // front faces. Counts of a slice's triangles: they fit u32, as `Stats` does.
+    let (mut clipped, mut degenerate, mut front) = (0u32, 0u32, 0u32);
     for tri in tris {
         let [a, b, c] = arrays::map(*tri, |i| &out[i as usize]);
         let draw = if OUTSIDE_ANY && (a.flags | b.flags | c.flags) & OUTSIDE != 0 {
+            clipped += 1;
             true
         } else {
             let (a, b, c) = (a.s, b.s, c.s);
-            let front = |area_lt_0: bool, area_eq_0: bool| {
-                if CULL {
-                    area_lt_0
-                } else {
-                    !area_eq_0
-                }
-            };
             let small = if SMALL {
                 crate::clip::signed_area_i32((a.x, a.y), (b.x, b.y), (c.x, c.y))
             } else {
                 None
             };
-            let kept = match small {
-                Some(area) => front(area < 0, area == 0),
+            let (gt, eq) = match small {
+                Some(area) => (area > 0, area == 0),
                 None => {
                     let area = crate::clip::signed_area((a.x, a.y), (b.x, b.y), (c.x, c.y));
-                    front(area < 0, area == 0)
+                    (area > 0, area == 0)
                 }
             };
-            kept && !((a.x < 8 && b.x < 8 && c.x < 8)
-                || (a.x > right && b.x > right && c.x > right)
-                || (a.y < 8 && b.y < 8 && c.y < 8)
-                || (a.y > bottom && b.y > bottom && c.y > bottom))
+            // A back face first: the usual drop takes one test.
+            if CULL && gt {
+                false
+            } else if eq {
+                degenerate += 1;
+                false
+            } else {
+                if CULL {
+                    front += 1;
+                }
+                !((a.x < 8 && b.x < 8 && c.x < 8)
+                    || (a.x > right && b.x > right && c.x > right)
+                    || (a.y < 8 && b.y < 8 && c.y < 8)
+                    || (a.y > bottom && b.y > bottom && c.y > bottom))
+            }
         };
         if draw {
             for i in tri {
                 out[*i as usize].flags |= NEEDED;
             }
         }
+    }
+    Dropped {
+        // Every triangle without a vertex outside is a zero area, a front face or
+        // (with culling) a back face.
+        back: if CULL {
+            (tris.len() as u32)
+                .wrapping_sub(clipped)
+                .wrapping_sub(degenerate)
+                .wrapping_sub(front)
+        } else {
+            0
+        },
+        degenerate,
     }
 }
 
@@ -547,6 +589,9 @@ pub struct Frame<'s, 'a, 'c, P: PixelFormat, Sp: Specular = BlinnExact> {
     proj: Mat4,
     /// The frame's projection (dereferences to its [`Viewport`]).
     pub(super) vp: Projector,
+    /// What the cull pass dropped, when this frame's vertex stage ran it (not for
+    /// [`Frame::resume`], whose cache the pass marked before).
+    pub(super) dropped: Option<Dropped>,
     _format: PhantomData<(P, Sp)>,
 }
 
@@ -691,11 +736,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             &setup.view,
             &setup.proj,
             &setup.map,
+            None,
         ))
     }
 
     /// The frame of `scene` over its prepared `cache`, in the frame of `view`,
-    /// `proj` and `map`.
+    /// `proj` and `map`, with what the cull pass `dropped` if it ran.
     #[inline(always)]
     fn assemble(
         scene: &'s Scene<'a>,
@@ -703,6 +749,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         view: &Mat4,
         proj: &Mat4,
         map: &Projector,
+        dropped: Option<Dropped>,
     ) -> Self {
         let mut offsets = heapless::Vec::new();
         let mut offset = 0;
@@ -719,6 +766,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             view: *view,
             proj: *proj,
             vp: *map,
+            dropped,
             _format: PhantomData,
         }
     }
@@ -740,6 +788,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         Self::checked_cache_len(scene, cache.len())?;
         let vp = *map.viewport();
         let mut offset = 0;
+        let mut dropped = Dropped::default();
         let (front, back) = cache.split_at_mut(count);
         for (i, obj) in scene.objects.iter().enumerate() {
             // Built in place when not stored (as locals: a struct or a tuple moved
@@ -775,12 +824,12 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             // 2. Cull before lighting: only vertices of triangles that may be drawn
             //    are lit (the flags are read only if some vertex is outside).
             let tris = mesh.triangles();
-            match (scene.cull_back, outside) {
+            dropped += match (scene.cull_back, outside) {
                 (true, true) => mark_needed::<true, true, SMALL_AREA>(out, tris, &vp),
                 (true, false) => mark_needed::<true, false, SMALL_AREA>(out, tris, &vp),
                 (false, true) => mark_needed::<false, true, SMALL_AREA>(out, tris, &vp),
                 (false, false) => mark_needed::<false, false, SMALL_AREA>(out, tris, &vp),
-            }
+            };
             // 3. Light the vertices that are needed, in eye space.
             light_needed::<P, Sp>(out, pos, mesh.normals(), aff, light);
             if Sp::two_sided() {
@@ -798,7 +847,14 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             }
             offset += mesh.positions().len();
         }
-        Ok(Frame::assemble(scene, cache, view, proj, map))
+        Ok(Frame::assemble(
+            scene,
+            cache,
+            view,
+            proj,
+            map,
+            Some(dropped),
+        ))
     }
 }
 
@@ -1155,9 +1211,10 @@ mod tests {
     }
 
     /// The cull pass marks exactly what `classify_refs` over the whole frame keeps,
-    /// with and without back-face culling and with either form of the area: small
-    /// and huge triangles, zero areas, vertices outside the guard band, triangles
-    /// beside every edge of the frame.
+    /// and counts the back faces and zero areas it skips (of the triangles with no
+    /// vertex outside), with and without back-face culling and with either form of
+    /// the area: small and huge triangles, zero areas, vertices outside the guard
+    /// band, triangles beside every edge of the frame.
     #[test]
     fn cull_pass_marks_what_classify_keeps() {
         let mut seed = 0x0bad_cafe_1234_5678u64;
@@ -1194,29 +1251,34 @@ mod tests {
             });
             for cull in [false, true] {
                 let mut want = verts;
+                let mut skipped = Stats::default();
                 for tri in &tris {
                     let t = tri.map(|i| &verts[i as usize]);
-                    if !matches!(
-                        classify_refs(t, cull, &vp, 0..vp.height as i32),
-                        Class::Skip(_)
-                    ) {
-                        for i in tri {
-                            want[*i as usize].flags |= NEEDED;
+                    match classify_refs(t, cull, &vp, 0..vp.height as i32) {
+                        Class::Skip(why) => skipped.skip(why),
+                        _ => {
+                            for i in tri {
+                                want[*i as usize].flags |= NEEDED;
+                            }
                         }
                     }
                 }
+                let want_dropped = Dropped {
+                    back: skipped.culled,
+                    degenerate: skipped.degenerate,
+                };
                 for small in [false, true] {
                     let mut got = verts;
-                    match (cull, small) {
+                    let dropped = match (cull, small) {
                         (false, false) => mark_needed::<false, true, false>(&mut got, &tris, &vp),
                         (false, true) => mark_needed::<false, true, true>(&mut got, &tris, &vp),
                         (true, false) => mark_needed::<true, true, false>(&mut got, &tris, &vp),
                         (true, true) => mark_needed::<true, true, true>(&mut got, &tris, &vp),
-                    }
+                    };
                     // Without the flags when no vertex is outside.
                     if verts.iter().all(|v| v.flags & OUTSIDE == 0) {
                         let mut fast = verts;
-                        match (cull, small) {
+                        let fast_dropped = match (cull, small) {
                             (false, false) => {
                                 mark_needed::<false, false, false>(&mut fast, &tris, &vp)
                             }
@@ -1227,13 +1289,82 @@ mod tests {
                                 mark_needed::<true, false, false>(&mut fast, &tris, &vp)
                             }
                             (true, true) => mark_needed::<true, false, true>(&mut fast, &tris, &vp),
-                        }
+                        };
                         assert_eq!(fast, want, "round {round} cull {cull} small {small}");
+                        assert_eq!(fast_dropped, want_dropped, "round {round} cull {cull}");
                     }
                     assert_eq!(got, want, "round {round} cull {cull} small {small}");
+                    assert_eq!(
+                        dropped, want_dropped,
+                        "round {round} cull {cull} small {small}"
+                    );
                 }
             }
         }
+    }
+
+    /// The walk skips the triangles the cull pass dropped on their vertex flags
+    /// alone and counts them from the pass's counts: the same bytes and the same
+    /// [`Stats`], reason by reason, as classifying every triangle (what a frame
+    /// without the counts, a resumed one, does), over random scenes with and
+    /// without culling, whole and in bands, with a span method that snaps.
+    #[test]
+    fn skipping_on_the_flags_draws_and_counts_as_classifying() {
+        use crate::raster::sierpinski::Sierpinski;
+        use crate::raster::span::SpanMethod;
+        use crate::target::{Rgb565Le, Strip};
+        fn draw<S: SpanMethod>(
+            frame: &Frame<'_, '_, '_, Rgb565Le>,
+            (w, h): (u32, u32),
+        ) -> (Vec<u16>, Stats) {
+            let n = (w * h) as usize;
+            let (mut px, mut z) = (std::vec![0u16; n], std::vec![u16::MAX; n]);
+            let mut st = Stats::default();
+            // Bands of 7, 33 and the rest of the rows, then the whole frame.
+            for (y0, rows) in [(0, 7), (7, 33), (40, h - 40)] {
+                let a = (y0 * w) as usize..((y0 + rows) * w) as usize;
+                let mut strip =
+                    Strip::<Rgb565Le>::new(&mut px[a.clone()], Some(&mut z[a]), w, h, y0, rows)
+                        .unwrap();
+                st += frame.draw::<S, _>(&mut strip).unwrap();
+            }
+            let (mut whole, mut zw) = (std::vec![0u16; n], std::vec![u16::MAX; n]);
+            let mut strip = Strip::<Rgb565Le>::new(&mut whole, Some(&mut zw), w, h, 0, h).unwrap();
+            st += frame.draw::<S, _>(&mut strip).unwrap();
+            assert_eq!(px, whole);
+            (px, st)
+        }
+        let mut seed = 0x5eed_f1a9_0000_7777u64;
+        let size = (96, 72);
+        let (mut flagged_back, mut flagged_outside) = (0, 0);
+        for round in 0..80 {
+            let (pos, nrm, tris) = random_mesh(&mut seed);
+            let mut scene = random_scene(&mut seed, &pos, &nrm, &tris);
+            scene.cull_back = round % 3 != 0;
+            let mut cache = std::vec![XfVertex::default(); scene.vertex_count()];
+            let mut frame = Frame::<Rgb565Le>::prepare(&scene, size.0, size.1, &mut cache).unwrap();
+            let counts = frame.dropped.expect("the vertex stage ran the cull pass");
+            let (g, gs) = draw::<Gradient>(&frame, size);
+            let (k, ks) = draw::<Sierpinski>(&frame, size);
+            frame.dropped = None;
+            let (g0, gs0) = draw::<Gradient>(&frame, size);
+            let (k0, ks0) = draw::<Sierpinski>(&frame, size);
+            assert!(
+                g == g0 && gs == gs0,
+                "round {round}: gradient {gs:?} {gs0:?}"
+            );
+            assert!(
+                k == k0 && ks == ks0,
+                "round {round}: sierpinski {ks:?} {ks0:?}"
+            );
+            flagged_back += counts.back;
+            flagged_outside += gs.outside;
+        }
+        // The rounds cull back faces and drop triangles off the frame.
+        assert!(
+            flagged_back > 1000 && flagged_outside > 1000,
+            "{flagged_back} {flagged_outside}"
+        );
     }
 
     /// A scene of random meshes under random cameras: some vertices behind the

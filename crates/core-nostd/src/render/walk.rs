@@ -17,7 +17,7 @@ use core::ops::Range;
 
 use super::frame::{
     classify, classify_refs, is_back, project_clamped, Class, Frame, Prepared, RenderError, Stats,
-    XfVertex, OUTSIDE,
+    XfVertex, NEEDED, OUTSIDE,
 };
 use crate::clip::{clip_triangle, is_front, signed_area, ClipVertex, Polygon, MAX_POLY};
 use crate::geometry::Projector;
@@ -257,6 +257,16 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
     /// Walks every triangle of the frame that may cover the frame rows `rows`,
     /// drawing it with `fill` (see the [module docs](self)).
     ///
+    /// When this frame's vertex stage ran the cull pass ([`Frame::dropped`]), a
+    /// triangle with a vertex not [`NEEDED`] is one the pass dropped, and it is
+    /// skipped on the flags alone: the pass classified it over the whole frame as
+    /// [`classify_refs`] does, and a triangle it keeps marks all three vertices. The
+    /// walk counts those by reason from the pass's counts: each back face and each
+    /// zero area of the frame was dropped by the pass, so the walk's own counts of
+    /// the two (on the triangles it classifies, by the same tests) are short by
+    /// exactly the ones skipped on the flags; the rest of those lie outside the
+    /// frame, and so outside any rows.
+    ///
     /// A fill that snaps ([`TriangleFill::SNAPS`]) is culled on the moved vertices,
     /// and only triangles drawable before the move are drawn (the vertex stage lit
     /// only their vertices): a sliver that turns front by snapping is dropped (a
@@ -270,18 +280,28 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         fill: &mut F,
     ) -> Result<Stats, RenderError> {
         let mut st = Stats::default();
+        // The skips of the classification the cull pass made (the only one, or
+        // the first of a fill that snaps), and the triangles not skipped on the
+        // flags (counted on that path: most triangles are skipped).
+        let (mut first, mut classified) = (Stats::default(), 0u32);
         let cull = self.scene.cull_back;
         for (i, (obj, prep)) in self.prepared().enumerate() {
             let o = F::PerObject::new(self, i, obj)?;
             let (verts, backs) = self.sides(prep.offset, obj.mesh.positions().len());
+            // Below 2^32 (a mesh that many triangles would take 24 GiB).
+            st.triangles += obj.mesh.triangles().len() as u32;
             for &idx in obj.mesh.triangles() {
-                st.triangles += 1;
                 let snapped;
                 let (v, class) = if F::SNAPS {
                     let mut t = arrays::map(idx, |i| verts[i as usize]);
+                    if self.dropped.is_some() && t[0].flags & t[1].flags & t[2].flags & NEEDED == 0
+                    {
+                        continue;
+                    }
+                    classified += 1;
                     let whole = 0..self.vp.height as i32;
                     if let Class::Skip(why) = classify(&t, cull, &self.vp, whole) {
-                        st.skip(why);
+                        first.skip(why);
                         continue;
                     }
                     for v in t.iter_mut().filter(|v| v.flags & OUTSIDE == 0) {
@@ -293,12 +313,24 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 } else {
                     // The usual path: the three vertices are read in place.
                     let v = arrays::map(idx, |i| &verts[i as usize]);
+                    if self.dropped.is_some() && v[0].flags & v[1].flags & v[2].flags & NEEDED == 0
+                    {
+                        continue;
+                    }
+                    classified += 1;
                     (v, classify_refs(v, cull, &self.vp, rows.clone()))
                 };
                 // A skipped triangle (most are: culled) builds nothing more.
                 let drawn = match class {
                     Class::Skip(why) => {
-                        st.skip(why);
+                        // Without snapping, the rows' classification gives each
+                        // triangle the pass dropped its reason (outside the frame
+                        // is outside any rows); those it kept, at most `Outside`.
+                        if F::SNAPS {
+                            st.skip(why);
+                        } else {
+                            first.skip(why);
+                        }
                         continue;
                     }
                     Class::Draw => true,
@@ -320,6 +352,25 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     st.clipped += 1;
                     fill.clipped(&o, &tri, &mut st);
                 }
+            }
+        }
+        match self.dropped {
+            // Each count of the pass is at least the walk's (see above); saturating
+            // all the same: never a panic.
+            Some(d) => {
+                st.culled += d.back;
+                st.degenerate += d.degenerate;
+                let flagged = st.triangles.saturating_sub(classified);
+                st.outside += first
+                    .skipped()
+                    .saturating_add(flagged)
+                    .saturating_sub(d.back)
+                    .saturating_sub(d.degenerate);
+            }
+            None => {
+                st.culled += first.culled;
+                st.degenerate += first.degenerate;
+                st.outside += first.outside;
             }
         }
         Ok(st)
