@@ -16,8 +16,8 @@ use crate::arrays;
 use core::ops::Range;
 
 use super::frame::{
-    classify, classify_refs, is_back, project_clamped, Class, Frame, Prepared, RenderError, Stats,
-    XfVertex, NEEDED, OUTSIDE,
+    classify, classify_refs, is_back, project_clamped, Class, Dropped, Frame, Prepared,
+    RenderError, Stats, XfVertex, NEEDED, OUTSIDE,
 };
 use crate::clip::{clip_triangle, is_front, signed_area, ClipVertex, Polygon, MAX_POLY};
 use crate::geometry::Projector;
@@ -354,25 +354,40 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 }
             }
         }
-        match self.dropped {
-            // Each count of the pass is at least the walk's (see above); saturating
-            // all the same: never a panic.
-            Some(d) => {
-                st.culled += d.back;
-                st.degenerate += d.degenerate;
-                let flagged = st.triangles.saturating_sub(classified);
-                st.outside += first
-                    .skipped()
-                    .saturating_add(flagged)
-                    .saturating_sub(d.back)
-                    .saturating_sub(d.degenerate);
-            }
-            None => {
-                st.culled += first.culled;
-                st.degenerate += first.degenerate;
-                st.outside += first.outside;
-            }
-        }
+        count_skips(
+            &mut st,
+            [first.culled, first.degenerate, first.outside],
+            classified,
+            self.dropped,
+        );
         Ok(st)
+    }
+}
+
+/// Adds to `st` the triangles a walk skipped: `first`, its own counts (back faces,
+/// zero areas, outside) of the classification the cull pass made, and with the
+/// pass's counts (`dropped`) those it skipped on the flags, the `st.triangles`
+/// less the `classified` (see [`Frame::walk`]). Out of line: one copy for every
+/// fill's walk (flash on the small chips).
+#[inline(never)]
+fn count_skips(st: &mut Stats, first: [u32; 3], classified: u32, dropped: Option<Dropped>) {
+    let [back, degenerate, outside] = first;
+    match dropped {
+        // Each count of the pass is at least the walk's (see `Frame::walk`);
+        // saturating all the same: never a panic.
+        Some(d) => {
+            st.culled += d.back;
+            st.degenerate += d.degenerate;
+            let flagged = st.triangles.saturating_sub(classified);
+            st.outside += (back + degenerate + outside)
+                .saturating_add(flagged)
+                .saturating_sub(d.back)
+                .saturating_sub(d.degenerate);
+        }
+        None => {
+            st.culled += back;
+            st.degenerate += degenerate;
+            st.outside += outside;
+        }
     }
 }
