@@ -256,7 +256,7 @@ pub(crate) fn shr_i64_split(x: i64, s: u32) -> i64 {
 
 /// `⌊n / d⌋` and the remainder for `d > 0`: `UDIV` where the core has one, a
 /// shift-and-subtract loop over the quotient's bits only on ARMv6-M (which has no
-/// divider; the library would call `__aeabi_uidiv`): about four instructions per
+/// divider; the library would call `__aeabi_uidiv`): a few instructions per
 /// quotient bit, cheap for the small quotients of the edge walk.
 ///
 /// ```
@@ -277,7 +277,10 @@ pub fn div_rem_u32(n: u32, d: u32) -> (u32, u32) {
     }
 }
 
-/// [`div_rem_u32`] by shift and subtract.
+/// [`div_rem_u32`] by shift and subtract. The divisor is doubled up to the
+/// quotient's top bit (no leading-zero count, which ARMv6-M lacks and costs two
+/// table lookups to emulate; the edge walk's quotients have a bit or three), then
+/// halved back one quotient bit at a time.
 #[cfg(any(test, fixshade_v6m))]
 #[inline]
 pub(crate) fn div_rem_u32_shift(n: u32, d: u32) -> (u32, u32) {
@@ -285,18 +288,25 @@ pub(crate) fn div_rem_u32_shift(n: u32, d: u32) -> (u32, u32) {
     if n < d {
         return (0, n);
     }
-    // The quotient has at most lz(d) − lz(n) + 1 bits.
-    let k = leading_zeros(d) - leading_zeros(n);
+    // t = d·2^k, the largest such multiple at most n: t ≤ n/2 before each
+    // doubling, so t never overflows, and halving t gives back d·2^(k−1) exactly.
+    let (mut t, mut k) = (d, 0u32);
+    while t <= n >> 1 {
+        t <<= 1;
+        k += 1;
+    }
     let (mut q, mut r) = (0u32, n);
-    let mut i = k as i32;
-    while i >= 0 {
-        let t = d << i;
+    loop {
         q <<= 1;
         if r >= t {
             r -= t;
             q |= 1;
         }
-        i -= 1;
+        if k == 0 {
+            break;
+        }
+        t >>= 1;
+        k -= 1;
     }
     (q, r)
 }
@@ -335,6 +345,21 @@ const RECIP_SEED: [u16; 256] = {
 /// ```
 #[inline]
 pub fn recip_q61(m: u32) -> u32 {
+    #[cfg(fixshade_v6m)]
+    {
+        recip_q61_split(m)
+    }
+    #[cfg(not(fixshade_v6m))]
+    {
+        recip_q61_wide(m)
+    }
+}
+
+/// [`recip_q61`] with [`mul_wide`]-class products (one `UMULL`/`SMULL` each where
+/// the core has them).
+#[cfg(any(test, not(fixshade_v6m)))]
+#[inline(always)]
+fn recip_q61_wide(m: u32) -> u32 {
     debug_assert!((1 << 30..1 << 31).contains(&m));
     // m >> 22 is in [256, 512): its low eight bits index the table.
     let mut r = (RECIP_SEED[((m >> 22) & 0xFF) as usize] as u32) << 15;
@@ -348,6 +373,50 @@ pub fn recip_q61(m: u32) -> u32 {
         k += 1;
     }
     r
+}
+
+/// [`recip_q61`] from 16×16-bit products (ARMv6-M, whose 64-bit products are four
+/// `MULS` and their carries): the same two Newton steps, to the same bits, keeping
+/// only the words each step uses. Splits are `x = x_h·2¹⁶ + x_l`, `x_l` in [0, 2¹⁶).
+///
+/// - Step 1 starts from `r₀ = s·2¹⁵` (the seed `s` < 2¹⁶), so
+///   `e >> 29 = ⌊(2⁴⁶ − m·s)/2¹⁴⌋`, with `m·s = m_h·s·2¹⁶ + m_l·s` (each product below
+///   2³²) and the residual below 2²⁴ in magnitude: modulo 2³² it is exact. Then
+///   `(r₀·f) >> 32 = ⌊s·f/2¹⁷⌋ = ⌊(s·f_h + ⌊s·f_l/2¹⁶⌋)/2⌋` (|s·f_h| < 2²⁴,
+///   `s·f_l` < 2³²).
+/// - Step 2: `m·r = P_h·2³² + P_l` with `P_h = m_h·r_h + ⌊(mid + ⌊lo/2¹⁶⌋)/2¹⁶⌋`
+///   (`mid = m_h·r_l + m_l·r_h` and `lo = m_l·r_l` below 2³², the sum too since
+///   `m_h`, `r_h` < 2¹⁵), so `e >> 29 = −8·P_h − ⌈P_l/2²⁹⌉` modulo 2³² (below 2¹⁵
+///   in magnitude: exact). Then `(r·f) >> 32 = ⌊(r_h·f + ⌊r_l·f/2¹⁶⌋)/2¹⁶⌋`
+///   (|r_h·f| < 2³⁰, |r_l·f| < 2³¹).
+///
+/// The sums with `r` are `i64` (two instructions each) and clamped as in
+/// [`recip_q61`]; the tests compare the two on a stride through the whole range,
+/// at every seed bucket's ends and on random arguments.
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+fn recip_q61_split(m: u32) -> u32 {
+    debug_assert!((1 << 30..1 << 31).contains(&m));
+    let s = RECIP_SEED[((m >> 22) & 0xFF) as usize] as u32;
+    let (mh, ml) = (m >> 16, m & 0xFFFF);
+    let clamp = |next: i64| (next as u64).min(i32::MAX as u64) as u32;
+    // Step 1: 2^46 − m·s = 2^16·(2^30 − m_h·s) − m_l·s; its floor over 2^14.
+    let b = ml * s;
+    let ceil = (b >> 14) + (b & 0x3FFF != 0) as u32;
+    let f = (4u32.wrapping_mul((1u32 << 30).wrapping_sub(mh * s))).wrapping_sub(ceil) as i32;
+    let (fh, fl) = (f >> 16, (f & 0xFFFF) as u32);
+    let step = ((s as i32) * fh + ((s * fl) >> 16) as i32) >> 1;
+    let r = clamp((s << 15) as i64 + step as i64);
+    // Step 2.
+    let (rh, rl) = (r >> 16, r & 0xFFFF);
+    let lo = ml * rl;
+    let mid = mh * rl + ml * rh;
+    let ph = (mh * rh).wrapping_add((mid + (lo >> 16)) >> 16);
+    let pl = (mid << 16).wrapping_add(lo);
+    let ceil = (pl >> 29) + (pl & 0x1FFF_FFFF != 0) as u32;
+    let f = 0u32.wrapping_sub(ph.wrapping_mul(8)).wrapping_sub(ceil) as i32;
+    let step = ((rh as i32) * f + (((rl as i32) * f) >> 16)) >> 16;
+    clamp(r as i64 + step as i64)
 }
 
 /// Knots of [`recip_seed`]: `RECIP_KNOTS[j] = ⌊2²⁴/(256 + j) + ½⌋ − 2¹⁵` for
@@ -1976,6 +2045,29 @@ mod tests {
         for _ in 0..100_000 {
             let x = (xorshift(&mut seed) as u32) >> (seed % 32);
             assert_eq!(leading_zeros_search(x), x.leading_zeros());
+        }
+    }
+
+    /// The 16-bit-product reciprocal gives the same bits as the wide one: every
+    /// seed bucket's ends and middle, a stride through the whole range and random
+    /// arguments.
+    #[test]
+    fn recip_split_equals_wide() {
+        let check = |m: u32| assert_eq!(recip_q61_split(m), recip_q61_wide(m), "m {m}");
+        for i in 0..256u32 {
+            let lo = (256 + i) << 22;
+            for m in [lo, lo + 1, lo + (1 << 21), lo + (1 << 22) - 1] {
+                check(m);
+            }
+        }
+        let mut m = 1u32 << 30;
+        while m < 1 << 31 {
+            check(m);
+            m += 997;
+        }
+        let mut seed = 0x3141_5926_5358_9793u64;
+        for _ in 0..1_000_000 {
+            check((xorshift(&mut seed) as u32 >> 1) | (1 << 30));
         }
     }
 

@@ -127,7 +127,9 @@ pub(crate) fn each_row(
 }
 
 /// The rows' first `n = min(color.len(), depth.len())` pixels as the packed loop
-/// writes them; `swap`: store the pixel byte-swapped (`Rgb565Be`).
+/// writes them; `swap`: store the pixel byte-swapped (`Rgb565Be`). On ARMv6-M the
+/// loop is inlined into each fill, except with `small-flash` (the micro:bit
+/// images), where every span calls the one copy in [`v6m_outlined`].
 #[inline(always)]
 pub(crate) fn packed_565_span(
     color: &mut [u16],
@@ -138,12 +140,12 @@ pub(crate) fn packed_565_span(
     dz: i32,
     swap: bool,
 ) {
-    span::<true>(color, depth, c, dc, z, dz, swap);
+    span::<{ cfg!(feature = "small-flash") }>(color, depth, c, dc, z, dz, swap);
 }
 
-/// [`packed_565_span`]; `OUTLINED`: on ARMv6-M through [`v6m_outlined`] (the
-/// spans drawn one by one, from every fill), else with the loop inlined (the row
-/// loop [`packed_565_rows`], itself one copy).
+/// [`packed_565_span`]; `OUTLINED`: on ARMv6-M through [`v6m_outlined`] (one copy
+/// for the spans of every fill), else with the loop inlined (each fill's spans, and
+/// the row loop [`packed_565_rows`], itself one copy).
 #[inline(always)]
 fn span<const OUTLINED: bool>(
     color: &mut [u16],
@@ -466,10 +468,11 @@ fn thumb2(
 /// pointer, the colour row's offset from it, two temporaries and the colour's two
 /// words take the six; the depth, the steps, the row's end and green's mask are
 /// moved into r8–r12 and lr first (`MOV`, `ADD` and `CMP` reach those), read from a
-/// block on the stack. Not inlined: one copy serves every span, as the micro:bit
-/// images have only a few hundred bytes of flash to spare. The call and the saving
-/// of r4–r11 cost about 40 instructions a span (on the bench sphere at 640×480,
-/// 6.02 M instead of 5.61 M inlined, 6.77 M before the loop was in assembly).
+/// block on the stack. Not inlined, for `small-flash` builds: one copy serves
+/// every span, as the micro:bit images have only a few hundred bytes of flash to
+/// spare. The call and the saving of r4–r11 cost about 40 instructions a span
+/// (35 a span on the bench sphere at 128×80: 16.43 M against 15.92 M inlined for
+/// the draw), so the other builds inline the loop.
 #[cfg(fixshade_v6m)]
 #[inline(never)]
 fn v6m_outlined(

@@ -291,14 +291,15 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             // Below 2^32 (a mesh that many triangles would take 24 GiB).
             st.triangles += obj.mesh.triangles().len() as u32;
             for &idx in obj.mesh.triangles() {
+                // The three vertices, read in place.
+                let v = arrays::map(idx, |i| &verts[i as usize]);
+                if self.dropped.is_some() && v[0].flags & v[1].flags & v[2].flags & NEEDED == 0 {
+                    continue;
+                }
+                classified += 1;
                 let snapped;
                 let (v, class) = if F::SNAPS {
-                    let mut t = arrays::map(idx, |i| verts[i as usize]);
-                    if self.dropped.is_some() && t[0].flags & t[1].flags & t[2].flags & NEEDED == 0
-                    {
-                        continue;
-                    }
-                    classified += 1;
+                    let mut t = arrays::map(v, |v| *v);
                     let whole = 0..self.vp.height as i32;
                     if let Class::Skip(why) = classify(&t, cull, &self.vp, whole) {
                         first.skip(why);
@@ -311,13 +312,6 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                     let class = classify(&snapped, cull, &self.vp, rows.clone());
                     ([&snapped[0], &snapped[1], &snapped[2]], class)
                 } else {
-                    // The usual path: the three vertices are read in place.
-                    let v = arrays::map(idx, |i| &verts[i as usize]);
-                    if self.dropped.is_some() && v[0].flags & v[1].flags & v[2].flags & NEEDED == 0
-                    {
-                        continue;
-                    }
-                    classified += 1;
                     (v, classify_refs(v, cull, &self.vp, rows.clone()))
                 };
                 // A skipped triangle (most are: culled) builds nothing more.
