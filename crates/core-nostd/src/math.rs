@@ -1484,8 +1484,17 @@ fn scale_for_length(v: [i64; 3]) -> Option<(i32, i32, i32, u64)> {
     } else {
         32 - leading_zeros(max as u32)
     } as i32;
+    // bits in [1, 64]: the shift in [−29, 34]. The results fit i32: only the low
+    // words are kept (a left shift of the low word alone; `shr_i64`, not the
+    // library's 64-bit shift, on ARMv6-M).
     let shift = bits - 30;
-    let s = |c: i64| (if shift >= 0 { c >> shift } else { c << -shift }) as i32;
+    let s = |c: i64| {
+        if shift >= 0 {
+            shr_i64(c, shift as u32) as i32
+        } else {
+            ((c as u32) << -shift) as i32
+        }
+    };
     let (x, y, z) = (s(v[0]), s(v[1]), s(v[2]));
     let sq = mul_wide(x, x) + mul_wide(y, y) + mul_wide(z, z);
     Some((x, y, z, sq as u64))

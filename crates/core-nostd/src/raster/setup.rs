@@ -38,7 +38,7 @@ use super::edge::first_row;
 use super::vertex::ScreenVertex;
 use crate::arrays;
 use crate::divide::{wide_recip, Divide, Exact};
-use crate::math::{leading_zeros, mul_wide, recip_q61};
+use crate::math::{leading_zeros, mul_i64_wide, mul_wide, recip_q61};
 
 /// Number of interpolated attributes: three colour channels and depth.
 pub const ATTRS: usize = 4;
@@ -153,9 +153,10 @@ impl Det {
     #[inline]
     pub(crate) fn gradient(&self, d1: i64, d2: i64, extra: u32) -> (i128, i128) {
         let sh = 62 - extra;
-        // |inv| ≤ 2^62 and |num| < 2^54 are both i64: one widening multiply.
+        // |inv| ≤ 2^62 and |num| < 2^54 are both i64: one widening multiply (four
+        // 32×32→64-bit products on ARMv6-M instead of six library calls).
         let inv = self.inv;
-        let quot = |num: i64| (num as i128 * inv as i128 + (1 << (sh - 1))) >> sh;
+        let quot = |num: i64| (mul_i64_wide(num, inv) + (1 << (sh - 1))) >> sh;
         (
             quot(16 * (d1 * self.dy2 - d2 * self.dy1)),
             quot(16 * (d2 * self.dx1 - d1 * self.dx2)),

@@ -348,12 +348,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
                 }
             }
         }
-        count_skips(
-            &mut st,
-            [first.culled, first.degenerate, first.outside],
-            classified,
-            self.dropped,
-        );
+        count_skips(&mut st, &first, classified, self.dropped);
         Ok(st)
     }
 }
@@ -364,8 +359,7 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
 /// less the `classified` (see [`Frame::walk`]). Out of line: one copy for every
 /// fill's walk (flash on the small chips).
 #[inline(never)]
-fn count_skips(st: &mut Stats, first: [u32; 3], classified: u32, dropped: Option<Dropped>) {
-    let [back, degenerate, outside] = first;
+fn count_skips(st: &mut Stats, first: &Stats, classified: u32, dropped: Option<Dropped>) {
     match dropped {
         // Each count of the pass is at least the walk's (see `Frame::walk`);
         // saturating all the same: never a panic.
@@ -373,15 +367,16 @@ fn count_skips(st: &mut Stats, first: [u32; 3], classified: u32, dropped: Option
             st.culled += d.back;
             st.degenerate += d.degenerate;
             let flagged = st.triangles.saturating_sub(classified);
-            st.outside += (back + degenerate + outside)
+            st.outside += first
+                .skipped()
                 .saturating_add(flagged)
                 .saturating_sub(d.back)
                 .saturating_sub(d.degenerate);
         }
         None => {
-            st.culled += back;
-            st.degenerate += degenerate;
-            st.outside += outside;
+            st.culled += first.culled;
+            st.degenerate += first.degenerate;
+            st.outside += first.outside;
         }
     }
 }
