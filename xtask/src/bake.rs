@@ -16,13 +16,18 @@ use fixshade_sim::scene::load::load_arg;
 pub enum Layout {
     /// Whole meshes (`boards/baked/full/`): the Cortex-M4 images and the real boards.
     Full,
-    /// Runs of triangles using at most 64 vertices each (`boards/baked/chunk/`): the
-    /// Cortex-M0 images, whose RAM holds no whole-mesh vertex cache.
-    Chunk,
+    /// Runs of triangles using at most this many vertices each (`boards/baked/chunk/`):
+    /// the Cortex-M0 images, whose RAM holds no whole-mesh vertex cache but a few chunk
+    /// caches (boards/qemu-microbit: 128 vertices of them, 64 with the teapot's 32-bit
+    /// depth rows). Fewer vertices a chunk mean more chunks in those caches at once, so
+    /// fewer chunks prepared again for a later strip (a row of the bench sphere at
+    /// 640×480 reaches up to four chunks of 64 vertices: two caches of 64 prepared 595
+    /// chunks a frame, seven of 18 prepare 31 of its 76), and more vertices stored
+    /// twice in flash. Each figure's limit is the best of several tried (by the
+    /// instructions of a `gradient` frame on the micro:bit) that leaves the image its
+    /// stack and flash room.
+    Chunk(usize),
 }
-
-/// The chunks' vertex limit of [`Layout::Chunk`].
-pub const CHUNK: usize = 64;
 
 /// A baked scene: the file stem under `boards/baked/{full,chunk}/`, the input (a
 /// built-in scene, or a scene file relative to the workspace root, as
@@ -41,22 +46,22 @@ pub const FILES: &[Baked] = &[
     Baked {
         stem: "sphere",
         input: "sphere",
-        layouts: &[Layout::Full, Layout::Chunk],
+        layouts: &[Layout::Full, Layout::Chunk(42)],
     },
     Baked {
         stem: "teapot",
         input: "teapot",
-        layouts: &[Layout::Full, Layout::Chunk],
+        layouts: &[Layout::Full, Layout::Chunk(32)],
     },
     Baked {
         stem: "robot",
         input: "robot",
-        layouts: &[Layout::Full, Layout::Chunk],
+        layouts: &[Layout::Full, Layout::Chunk(25)],
     },
     Baked {
         stem: "bench_sphere",
         input: "bench-sphere",
-        layouts: &[Layout::Full, Layout::Chunk],
+        layouts: &[Layout::Full, Layout::Chunk(18)],
     },
     // The sphere benchmark's finer meshes (the Cortex-M4 and ARMv6-M full-frame images).
     Baked {
@@ -84,7 +89,7 @@ pub fn files(root: &Path) -> Result<Vec<(String, String)>, String> {
         for layout in b.layouts {
             let (dir, chunk) = match layout {
                 Layout::Full => ("full", None),
-                Layout::Chunk => ("chunk", Some(CHUNK)),
+                Layout::Chunk(n) => ("chunk", Some(*n)),
             };
             let mut command = format!("fixshade bake {}", b.input);
             if let Some(n) = chunk {

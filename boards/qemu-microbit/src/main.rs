@@ -20,10 +20,14 @@
 //!   before its first vertex (matrices, projection, lighting) is computed once per
 //!   frame into a [`FrameSetup`] in a static, and every chunk is prepared from it
 //!   ([`Frame::prepare_from`], the same bits); that once-per-frame cost is in the
-//!   `prepare` column too. The chunk caches are `SLOTS` (two, one for the teapot):
-//!   a chunk still in one when a later strip reaches it is drawn from it again
-//!   ([`Frame::resume`]: a range check of its vertices, also in `prepare`), and a
-//!   chunk that is not replaces the one drawn again last.
+//!   `prepare` column too. The chunk caches share `CACHE_VERTICES` vertices (128,
+//!   64 with the teapot's 32-bit depth rows) among as many chunks as fit, and
+//!   each figure's chunk limit is chosen for that (xtask/src/bake.rs: seven chunks
+//!   of the bench sphere, three of the sphere, five of the robot, two of the
+//!   teapot): a chunk still in one when a later strip reaches it is drawn from it
+//!   again ([`Frame::resume`]: a range check of its vertices, also in `prepare`),
+//!   and a chunk that is not replaces the one drawn again last. The chunks are
+//!   meshes checked when the image is compiled (`Mesh::new` is a `const fn`).
 //!
 //! The dividers, shading modes, specular models and perspective correction are
 //! measured on the full-frame ARMv6-M image (`boards/qemu-mps2-an386` built for
@@ -94,8 +98,6 @@ const STRIP_PIXELS: usize = 640;
 /// Q12.4 units a span method may move a vertex by (two pixels: more than
 /// sierpinski's snapping to even pixels).
 const SNAP_MARGIN: i32 = 32;
-/// Chunks per mesh at most (the baked figures have at most 31).
-const MAX_CHUNKS: usize = 64;
 
 const EMPTY: XfVertex = XfVertex {
     s: fixshade::raster::ScreenVertex {
@@ -109,14 +111,17 @@ const EMPTY: XfVertex = XfVertex {
 
 static mut COLOR: [u16; STRIP_PIXELS] = [0; STRIP_PIXELS];
 static mut DEPTH: [fig::Depth; STRIP_PIXELS] = [0; STRIP_PIXELS];
-/// Chunk caches kept across strips: a chunk whose cache is still here when a later
-/// strip reaches it is drawn again from it ([`Frame::resume`]) instead of being
-/// prepared again. Each is 64 × 28 = 1,792 bytes; the images have room for two, the
-/// teapot's (32-bit depth rows, 1.25 KiB more) for one.
+/// Vertices of the chunk caches kept across strips: a chunk whose cache is still
+/// here when a later strip reaches it is drawn again from it ([`Frame::resume`])
+/// instead of being prepared again. 128 × 28 = 3,584 bytes; the teapot's image
+/// (32-bit depth rows, 1.25 KiB more) has room for 64.
 #[cfg(not(feature = "teapot"))]
-const SLOTS: usize = 2;
+const CACHE_VERTICES: usize = 128;
 #[cfg(feature = "teapot")]
-const SLOTS: usize = 1;
+const CACHE_VERTICES: usize = 64;
+/// Chunk caches: as many chunks as `CACHE_VERTICES` hold (the figure's chunk limit
+/// is chosen for that, `cargo xtask bake`).
+const SLOTS: usize = CACHE_VERTICES / fig::MAX_CHUNK_VERTICES;
 /// No chunk in a slot.
 const NONE: u8 = u8::MAX;
 static mut CACHE: [[XfVertex; fig::MAX_CHUNK_VERTICES]; SLOTS] =
@@ -232,7 +237,7 @@ fn run() -> Result<(), &'static str> {
         return Err("strip rows must divide the frame height; one object per figure");
     }
     let chunks = fig::OBJECTS[0];
-    if chunks.len() > MAX_CHUNKS.min(NONE as usize) {
+    if chunks.len() > fig::MAX_CHUNKS.min(NONE as usize) {
         return Err("too many chunks");
     }
     let scene = init_scene()?;
@@ -294,11 +299,11 @@ fn setup_cost(
     let (frame_setup, _) = new_setup(scene, chunks, counter)?;
     for c in chunks {
         prepare(scene, frame_setup, c, cache, counter)?;
-        let verts = &cache[..c.0.len()];
+        let verts = &cache[..c.positions().len()];
         let pass = |call: bool, counter: &mut SysTickCounter| {
             let mut k = 0u32;
             let ((), cost) = counter.measure(|| {
-                for t in c.2 {
+                for t in c.triangles() {
                     let v = t.map(|i| verts[i as usize]);
                     if v.iter()
                         .any(|x| x.flags & OUTSIDE != 0 || x.flags & NEEDED == 0)
@@ -348,7 +353,7 @@ fn new_setup(
 ) -> Result<(&'static FrameSetup, u64), &'static str> {
     let (_, w, h) = FIGURE;
     let first = chunks.first().ok_or("no chunks")?;
-    scene.objects[0].mesh = fig::chunk_mesh(first).map_err(|_| "chunk rejected")?;
+    scene.objects[0].mesh = *first;
     // SAFETY: only this function writes SETUP, and the reference it returned
     // last is no longer used when it is called again (one frame at a time).
     #[allow(unsafe_code)]
@@ -409,18 +414,20 @@ fn frame<'s>(
     // `lo`, `hi` the chunk's extreme y (Q12.4), rows `s..e` are missed exactly when
     // `hi + M < 16s + 8` or `lo − M > 16e − 8`, i.e. when `⌊(hi + M − 8)/16⌋ < s`
     // or `⌊(lo − M + 7)/16⌋ ≥ e`; those two row numbers are kept, as i16 (the guard
-    // band's rows fit), to keep this array's 256 bytes off a stack that is short of
-    // room.
-    let mut reach = [(i16::MIN, i16::MAX); MAX_CHUNKS];
+    // band's rows fit), to keep this array small on a stack that is short of room
+    // (4 bytes a chunk).
+    let mut reach = [(i16::MIN, i16::MAX); fig::MAX_CHUNKS];
     let (setup, cost) = new_setup(scene, chunks, counter)?;
     log.prepare += cost;
-    // The chunk each slot's cache holds (`NONE`: none yet); pass 1 prepares into the
-    // first slot, so it ends with the last chunk there.
+    // The chunk each slot's cache holds (`NONE`: none yet). Pass 1 goes from the
+    // last chunk to the first, chunk `k` into slot `k % SLOTS`, so it ends with the
+    // first chunks in the slots, which the first strips draw.
     let mut held = [NONE; SLOTS];
-    for (k, c) in chunks.iter().enumerate() {
-        log.prepare += prepare(scene, setup, c, &mut slots[0][..], counter)?;
-        held[0] = k as u8;
-        let v = &slots[0][..c.0.len()];
+    for (k, c) in chunks.iter().enumerate().rev() {
+        let slot = k % SLOTS;
+        log.prepare += prepare(scene, setup, c, &mut slots[slot][..], counter)?;
+        held[slot] = k as u8;
+        let v = &slots[slot][..c.positions().len()];
         if v.iter().all(|x| x.flags & OUTSIDE == 0) {
             // Only the vertices of triangles that may be drawn (`NEEDED`): a chunk
             // of back faces alone reaches no row.
@@ -473,7 +480,7 @@ fn frame<'s>(
             .map_err(|_| "cannot write the frame file")?;
         y0 += rows;
     }
-    log.stats.triangles = chunks.iter().map(|c| c.2.len() as u32).sum();
+    log.stats.triangles = chunks.iter().map(|c| c.triangles().len() as u32).sum();
     Ok(log)
 }
 
@@ -483,7 +490,7 @@ fn frame<'s>(
 /// that as few chunks as possible are prepared again.
 fn evict(
     held: &[u8; SLOTS],
-    reach: &[(i16, i16); MAX_CHUNKS],
+    reach: &[(i16, i16); fig::MAX_CHUNKS],
     k: usize,
     r: &core::ops::Range<i32>,
 ) -> usize {
@@ -513,7 +520,7 @@ fn prepare(
     cache: &mut [XfVertex],
     counter: &mut SysTickCounter,
 ) -> Result<u64, &'static str> {
-    scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
+    scene.objects[0].mesh = *c;
     let (frame, cost) = counter.measure(|| Frame::<Rgb565Le>::prepare_from(scene, setup, cache));
     frame.map_err(|_| "prepare failed")?;
     Ok(cost)
@@ -534,22 +541,37 @@ fn prepare_and_draw<'s>(
     kept: bool,
     counter: &mut SysTickCounter,
 ) -> Result<(u64, u64, Stats), &'static str> {
-    scene.objects[0].mesh = fig::chunk_mesh(c).map_err(|_| "chunk rejected")?;
+    scene.objects[0].mesh = *c;
     // The counter read around the call rather than through `SysTickCounter::measure`, whose
     // `(Result<Frame>, u64)` cost this function 32 more bytes of a stack that is
     // short of room (measured with `-Z emit-stack-sizes`).
     let t0 = counter.begin();
     mark_on();
-    let frame = if kept {
-        Frame::<Rgb565Le>::resume(scene, setup, cache)
-    } else {
-        Frame::<Rgb565Le>::prepare_from(scene, setup, cache)
-    };
+    let frame = open(scene, setup, cache, kept);
     mark_off();
     let prepare = counter.since(t0);
-    let frame = frame.map_err(|_| "prepare failed")?;
-    let (stats, draw) = counter.measure(|| draw(&frame, strip));
+    let Ok(frame) = &frame else {
+        return Err("prepare failed");
+    };
+    let (stats, draw) = counter.measure(|| draw(frame, strip));
     Ok((prepare, draw, stats.map_err(|_| "draw failed")?))
+}
+
+/// The frame of the chunk in `cache`: drawn again from it when `kept`
+/// ([`Frame::resume`]), else prepared into it. Out of line, so that its caller
+/// holds one `Frame` (about 440 bytes) where the two calls inlined held two.
+#[inline(never)]
+fn open<'s, 'c>(
+    scene: &'s Scene<'static>,
+    setup: &FrameSetup,
+    cache: &'c mut [XfVertex],
+    kept: bool,
+) -> Result<Frame<'s, 'static, 'c, Rgb565Le>, fixshade::render::RenderError> {
+    if kept {
+        Frame::resume(scene, setup, cache)
+    } else {
+        Frame::prepare_from(scene, setup, cache)
+    }
 }
 
 #[entry]

@@ -89,8 +89,28 @@ pub struct Mesh<'a> {
 }
 
 impl<'a> Mesh<'a> {
-    /// Checks and wraps the slices.
-    pub fn new(
+    /// Checks and wraps the slices. A `const fn`: a mesh in flash can be checked
+    /// when the firmware is compiled (a `static` built by a `const` block that
+    /// fails to compile on an invalid mesh), and then costs nothing at run time.
+    ///
+    /// ```
+    /// use fixshade::fixed::{Q16_16, Q2_14};
+    /// use fixshade::geometry::Mesh;
+    /// const fn q(v: i32) -> Q16_16 {
+    ///     Q16_16::from_int(v)
+    /// }
+    /// const N: Q2_14 = Q2_14::ONE;
+    /// const Z: Q2_14 = Q2_14::from_bits(0);
+    /// static P: [[Q16_16; 3]; 3] = [[q(-1), q(-1), q(0)], [q(1), q(-1), q(0)], [q(0), q(1), q(0)]];
+    /// static NORMALS: [[Q2_14; 3]; 3] = [[Z, Z, N]; 3];
+    /// static T: [[u16; 3]; 1] = [[0, 1, 2]];
+    /// static MESH: Mesh<'static> = match Mesh::new(&P, &NORMALS, &T) {
+    ///     Ok(m) => m,
+    ///     Err(_) => panic!("not a valid mesh"), // a compile error, not a run-time panic
+    /// };
+    /// assert_eq!(MESH.bound(), 1 << 16);
+    /// ```
+    pub const fn new(
         positions: &'a [Vec3],
         normals: &'a [[Q2_14; 3]],
         triangles: &'a [[u16; 3]],
@@ -101,26 +121,34 @@ impl<'a> Mesh<'a> {
         if positions.len() > 65535 {
             return Err(MeshError::TooManyVertices);
         }
-        let lim = Q16_16::from_int(MAX_COORD);
-        if let Some(i) = positions
-            .iter()
-            .position(|p| p.iter().any(|c| c.abs() >= lim))
-        {
-            return Err(MeshError::CoordinateOutOfRange(i));
+        // `while` loops: iterators are not `const`.
+        let lim = Q16_16::from_int(MAX_COORD).to_bits();
+        let mut bound = 0;
+        let mut i = 0;
+        while i < positions.len() {
+            let mut k = 0;
+            while k < 3 {
+                // |c| below 2^30 after this test (saturating: i32::MIN fails it).
+                let c = positions[i][k].to_bits().saturating_abs();
+                if c >= lim {
+                    return Err(MeshError::CoordinateOutOfRange(i));
+                }
+                if c > bound {
+                    bound = c;
+                }
+                k += 1;
+            }
+            i += 1;
         }
         let n = positions.len();
-        if let Some(t) = triangles
-            .iter()
-            .position(|t| t.iter().any(|i| *i as usize >= n))
-        {
-            return Err(MeshError::IndexOutOfRange(t));
+        let mut t = 0;
+        while t < triangles.len() {
+            let [a, b, c] = triangles[t];
+            if a as usize >= n || b as usize >= n || c as usize >= n {
+                return Err(MeshError::IndexOutOfRange(t));
+            }
+            t += 1;
         }
-        let bound = positions
-            .iter()
-            .flat_map(|p| p.iter())
-            .map(|c| c.to_bits().abs())
-            .max()
-            .unwrap_or(0);
         Ok(Mesh {
             positions,
             normals,
@@ -138,7 +166,7 @@ impl<'a> Mesh<'a> {
     /// let n = [[Q2_14::ONE; 3]];
     /// assert_eq!(Mesh::new(&p, &n, &[]).unwrap().bound(), 3 << 16);
     /// ```
-    pub fn bound(&self) -> i32 {
+    pub const fn bound(&self) -> i32 {
         self.bound
     }
 
@@ -157,26 +185,37 @@ impl<'a> Mesh<'a> {
     /// assert_eq!(m.with_bound(3 << 16).bound(), 3 << 16);
     /// assert_eq!(m.with_bound(0).bound(), 1 << 16); // never lowered
     /// ```
-    pub fn with_bound(self, bound: i32) -> Mesh<'a> {
+    pub const fn with_bound(self, bound: i32) -> Mesh<'a> {
         let limit = Q16_16::from_int(MAX_COORD).to_bits() - 1;
-        Mesh {
-            bound: bound.clamp(self.bound, limit.max(self.bound)),
-            ..self
-        }
+        // `bound.clamp(self.bound, limit.max(self.bound))`, written out (`Ord::clamp`
+        // is not `const`).
+        let hi = if limit > self.bound {
+            limit
+        } else {
+            self.bound
+        };
+        let bound = if bound < self.bound {
+            self.bound
+        } else if bound > hi {
+            hi
+        } else {
+            bound
+        };
+        Mesh { bound, ..self }
     }
 
     /// Vertex positions.
-    pub fn positions(&self) -> &'a [Vec3] {
+    pub const fn positions(&self) -> &'a [Vec3] {
         self.positions
     }
 
     /// Vertex normals.
-    pub fn normals(&self) -> &'a [[Q2_14; 3]] {
+    pub const fn normals(&self) -> &'a [[Q2_14; 3]] {
         self.normals
     }
 
     /// Triangles.
-    pub fn triangles(&self) -> &'a [[u16; 3]] {
+    pub const fn triangles(&self) -> &'a [[u16; 3]] {
         self.triangles
     }
 }

@@ -720,14 +720,21 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
         // inside the depth range (unless `OUTSIDE`, whose triangles the clipper
         // takes from the mesh), colour channels within [0, 2^30) (the lattice's
         // range). Two-sided lighting writes only the colours of the back half.
-        let colour = |v: &XfVertex| v.s.c.iter().all(|&c| (c as u32) < 1 << 30);
-        let position = |v: &XfVertex| {
-            v.flags & OUTSIDE != 0
-                || (v.s.x.unsigned_abs() < GUARD as u32
-                    && v.s.y.unsigned_abs() < GUARD as u32
-                    && v.s.z as i64 <= DEPTH_SCALE)
-        };
-        if !front.iter().all(|v| position(v) && colour(v)) || !back.iter().all(colour) {
+        // One pass of ORs and no early exit (a cache is checked per strip and chunk on
+        // a small board): every channel below 2^30 exactly when their OR is.
+        let colour = |v: &XfVertex| (v.s.c[0] | v.s.c[1] | v.s.c[2]) as u32 >> 30 != 0;
+        let mut bad = false;
+        for v in front {
+            bad |= colour(v)
+                | (v.flags & OUTSIDE == 0
+                    && (v.s.x.unsigned_abs() >= GUARD as u32
+                        || v.s.y.unsigned_abs() >= GUARD as u32
+                        || v.s.z as i64 > DEPTH_SCALE));
+        }
+        for v in back {
+            bad |= colour(v);
+        }
+        if bad {
             return Err(RenderError::CacheNotPrepared);
         }
         Ok(Frame::assemble(

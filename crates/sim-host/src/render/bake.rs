@@ -46,14 +46,26 @@ pub struct Chunk {
     pub triangles: Vec<[u16; 3]>,
 }
 
-/// The baked `Chunk` type and its `chunk_mesh` (every baked file that holds chunks
-/// declares them so; needs `Q16_16`, `Q2_14`, `Mesh` and `MeshError` in scope).
-pub const CHUNK_SRC: &str = "/// A run of consecutive triangles with its own vertex arrays: Q16.16 positions,\n\
-     /// Q2.14 normals, triangles, and the whole mesh's bound (raw Q16.16).\n\
-     pub type Chunk = (&'static [[Q16_16; 3]], &'static [[Q2_14; 3]], &'static [[u16; 3]], i32);\n\n\
-     /// The core's view of a chunk, transformed as the whole mesh is (its bound).\n\
-     pub fn chunk_mesh(c: &Chunk) -> Result<Mesh<'static>, MeshError> {\n    \
-     Mesh::new(c.0, c.1, c.2).map(|m| m.with_bound(c.3))\n}\n\n";
+/// The baked `Chunk` type and its `const fn chunk` (every baked file that holds
+/// chunks declares them so; needs `Q16_16`, `Q2_14` and `Mesh` in scope).
+pub const CHUNK_SRC: &str =
+    "/// A run of consecutive triangles with its own vertex arrays (Q16.16 positions,\n\
+     /// Q2.14 normals, triangles), as the core's mesh with the whole mesh's bound.\n\
+     pub type Chunk = Mesh<'static>;\n\n\
+     /// The chunk of these arrays, transformed as the whole mesh is (`bound`, raw\n\
+     /// Q16.16), checked when the firmware is compiled: a chunk that is not a valid\n\
+     /// mesh does not compile, and a valid one costs no check at run time.\n\
+     const fn chunk(\n    \
+     positions: &'static [[Q16_16; 3]],\n    \
+     normals: &'static [[Q2_14; 3]],\n    \
+     triangles: &'static [[u16; 3]],\n    \
+     bound: i32,\n\
+     ) -> Chunk {\n    \
+     match Mesh::new(positions, normals, triangles) {\n        \
+     Ok(m) => m.with_bound(bound),\n        \
+     Err(_) => panic!(\"a baked chunk is not a valid mesh\"),\n    \
+     }\n\
+     }\n\n";
 
 /// The largest |coordinate| of a mesh's positions, raw Q16.16 (`Mesh::bound`).
 pub fn mesh_bound(m: &FixedMesh) -> i32 {
@@ -213,7 +225,7 @@ fn scene_src(s: &Scene<'_>) -> String {
         let p = &o.placement;
         let _ = writeln!(
             f,
-            "    let _ = s.add_object(Object {{\n        mesh: chunk_mesh(&OBJECTS[{i}][0])?,\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n        back_material: BACK_MATERIALS[{i}].as_ref(),\n    }});",
+            "    let _ = s.add_object(Object {{\n        mesh: OBJECTS[{i}][0],\n        placement: Placement {{\n            translate: {},\n            rotate: [{}],\n            scale: {},\n        }},\n        material: MATERIALS[{i}],\n        back_material: BACK_MATERIALS[{i}].as_ref(),\n    }});",
             v3(&p.translate),
             p.rotate
                 .iter()
@@ -346,7 +358,7 @@ fn bake_meshes(
             let name = format!("O{i}C{k}");
             arrays_src(&mut body, &name, c);
             flash += c.positions.len() * VERTEX_BYTES + c.triangles.len() * TRIANGLE_BYTES;
-            names.push(format!("(&{name}_P, &{name}_N, &{name}_T, {bound})"));
+            names.push(format!("chunk(&{name}_P, &{name}_N, &{name}_T, {bound})"));
         }
         let largest = cs.iter().map(|c| c.positions.len()).max().unwrap_or(0);
         let repeated: usize = cs.iter().map(|c| c.positions.len()).sum::<usize>();
@@ -404,18 +416,21 @@ fn bake_meshes(
             .map(|m| format!("    {},\n", material_src(&material(m))))
             .collect::<String>()
     );
-    let largest = fixed
+    let cut = fixed
         .iter()
-        .map(|m| chunks(m, chunk).map(|cs| cs.iter().map(|c| c.positions.len()).max()))
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .flatten()
+        .map(|m| chunks(m, chunk))
+        .collect::<Result<Vec<_>, _>>()?;
+    let largest = cut
+        .iter()
+        .flat_map(|cs| cs.iter().map(|c| c.positions.len()))
         .max()
         .unwrap_or(0);
+    let most = cut.iter().map(Vec::len).max().unwrap_or(0);
     let _ = writeln!(
         f,
         "/// Vertices in the largest chunk: the vertex cache a draw of one chunk needs.\npub const MAX_CHUNK_VERTICES: usize = {largest};\n\
-         /// The chunks' vertex limit (`--chunk`; 0: one chunk per mesh).\npub const CHUNK_LIMIT: usize = {};\n",
+         /// The chunks' vertex limit (`--chunk`; 0: one chunk per mesh).\npub const CHUNK_LIMIT: usize = {};\n\
+         /// Chunks of the object cut into the most.\npub const MAX_CHUNKS: usize = {most};\n",
         chunk.unwrap_or(0)
     );
     if let Some(d) = desc {
