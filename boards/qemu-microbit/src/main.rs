@@ -122,6 +122,10 @@ const CACHE_VERTICES: usize = 64;
 /// Chunk caches: as many chunks as `CACHE_VERTICES` hold (the figure's chunk limit
 /// is chosen for that, `cargo xtask bake`).
 const SLOTS: usize = CACHE_VERTICES / fig::MAX_CHUNK_VERTICES;
+const _: () = assert!(
+    SLOTS > 0,
+    "the figure's chunks are larger than the chunk caches: bake it with a smaller limit"
+);
 /// No chunk in a slot.
 const NONE: u8 = u8::MAX;
 static mut CACHE: [[XfVertex; fig::MAX_CHUNK_VERTICES]; SLOTS] =
