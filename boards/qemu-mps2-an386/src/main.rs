@@ -621,8 +621,12 @@ fn bytemuck_u16(p: &[u16]) -> &[u8] {
 
 /// The frame in `Rgb565Be` is the `Rgb565Le` frame with each pixel's bytes
 /// swapped: the Cortex-M4's span loop in assembly stores the two byte orders by two
-/// paths, and the frames compared with the host are `Rgb565Le`. Logged as
-/// `FORMATS board figure rgb565be=rgb565le`; a difference ends the run.
+/// paths, and the frames compared with the host are `Rgb565Le`. And the `Rgb565Le`
+/// frame drawn into colour cells aligned unlike the depth cells (a colour buffer
+/// that starts two bytes off a word against the depth buffer) is the same: the
+/// Cortex-M4's span loop stores two pixels a word only where both kinds of cell
+/// are word-aligned, and goes a pixel a step otherwise. Logged as `FORMATS board
+/// figure rgb565be=rgb565le unaligned=aligned`; a difference ends the run.
 #[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
 fn byte_orders_agree(
     scene: &Scene<'_>,
@@ -633,32 +637,52 @@ fn byte_orders_agree(
 ) -> Result<(), &'static str> {
     let (w, h) = (fig.width, fig.height);
     let n = (w * h) as usize;
-    if 2 * n > color.len() || 2 * n > depth.len() {
+    if 2 * n + 1 > color.len() || 2 * n > depth.len() {
         return Err("the byte-order check needs two frames of buffer");
     }
-    let (le, be) = color[..2 * n].split_at_mut(n);
+    let (le, rest) = color[..2 * n + 1].split_at_mut(n);
     let (dle, dbe) = depth[..2 * n].split_at_mut(n);
-    let frame =
-        Frame::<Rgb565Le>::prepare(scene, w, h, &mut cache[..]).map_err(|_| "prepare failed")?;
-    let mut fb = Framebuffer::<Rgb565Le>::new(le, Some(dle), w, h).map_err(|_| "framebuffer")?;
-    fb.clear(0);
-    frame
-        .draw::<Gradient, _>(&mut fb)
-        .map_err(|_| "draw failed")?;
-    let frame =
-        Frame::<Rgb565Be>::prepare(scene, w, h, &mut cache[..]).map_err(|_| "prepare failed")?;
-    let mut fb = Framebuffer::<Rgb565Be>::new(be, Some(dbe), w, h).map_err(|_| "framebuffer")?;
-    fb.clear(0);
-    frame
-        .draw::<Gradient, _>(&mut fb)
-        .map_err(|_| "draw failed")?;
+    let be = &mut rest[..n];
+    whole_frame::<Rgb565Le>(scene, (w, h), le, dle, cache)?;
+    whole_frame::<Rgb565Be>(scene, (w, h), be, dbe, cache)?;
     if le.iter().zip(be.iter()).any(|(l, b)| l.swap_bytes() != *b) {
         return Err("the Rgb565Be frame is not the Rgb565Le frame byte-swapped");
     }
     if le.iter().all(|&p| p == 0) {
         return Err("the byte-order check drew nothing");
     }
-    let _ = writeln!(Console, "FORMATS {BOARD} {} rgb565be=rgb565le", fig.name);
+    let off = &mut rest[1..];
+    if (off.as_ptr() as usize ^ dbe.as_ptr() as usize) & 2 == 0 {
+        return Err("the alignment check's colour cells are aligned as its depth cells");
+    }
+    whole_frame::<Rgb565Le>(scene, (w, h), off, dbe, cache)?;
+    if le != &rest[1..] {
+        return Err("the frame in colour cells aligned unlike the depth cells differs");
+    }
+    let _ = writeln!(
+        Console,
+        "FORMATS {BOARD} {} rgb565be=rgb565le unaligned=aligned",
+        fig.name
+    );
+    Ok(())
+}
+
+/// `scene` drawn whole by `gradient` into cleared `color` and `depth` cells of
+/// `(w, h)` pixels in format `P`.
+#[cfg(not(any(feature = "dividers", feature = "perspective", feature = "report")))]
+fn whole_frame<P: PixelFormat<Raw = u16>>(
+    scene: &Scene<'_>,
+    (w, h): (u32, u32),
+    color: &mut [u16],
+    depth: &mut [u16],
+    cache: &mut [XfVertex],
+) -> Result<(), &'static str> {
+    let frame = Frame::<P>::prepare(scene, w, h, cache).map_err(|_| "prepare failed")?;
+    let mut fb = Framebuffer::<P>::new(color, Some(depth), w, h).map_err(|_| "framebuffer")?;
+    fb.clear(0);
+    frame
+        .draw::<Gradient, _>(&mut fb)
+        .map_err(|_| "draw failed")?;
     Ok(())
 }
 

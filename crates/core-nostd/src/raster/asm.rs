@@ -8,7 +8,11 @@
 //! runs out of registers: the four depths and colour steps are spilled and reloaded
 //! at every pixel. Measured on the bench sphere (`cargo xtask qemu`), a written
 //! pixel took 20 instructions on the Cortex-M4 and 27 on ARMv6-M; these loops take
-//! 16 and 23 (a hidden pixel 8 and 13), with the same pixels and depths: the QEMU
+//! 16 and 23 (a hidden pixel 8 and 13), with the same pixels and depths. On the
+//! Cortex-M4 the spans of six pixels or more in the row loop and in band draws go
+//! two pixels a step with the DSP extension ([`thumb2_pair`]): 13 instructions a
+//! pixel, written or hidden (the bench sphere's whole-frame draw at 640×480: 3.15 M
+//! → 2.85 M instructions). The QEMU
 //! images compare every frame with the host's byte for byte, and the mps2 images
 //! (Cortex-M4 and ARMv6-M) check that `Rgb565Be` (the byte-swapping store) draws
 //! the `Rgb565Le` frame byte-swapped.
@@ -37,20 +41,18 @@ use crate::target::{DepthFormat, PixelFormat, Target};
 #[cfg(not(feature = "small-flash"))]
 use core::ops::Range;
 
-/// The span loop of ARMv7-M and later (Thumb-2), as one template for both
-/// loops that run it ([`thumb2`], [`packed_565_rows`]): both rows indexed from
-/// their ends by a negative pixel index `{i}` (scaled by two in the address) that
-/// steps up to zero, so one register and one flag-setting add count the loop.
-/// `$rev`: an instruction applied to the pixel before its store.
+/// One pixel of the span loop of ARMv7-M and later (Thumb-2), at index `{i}`,
+/// which then steps by one (the flags set by that step: zero at the span's end);
+/// `$skip`: the local label of the step, `$rev`: an instruction applied to the
+/// pixel before its store.
 #[cfg(fixshade_dsp)]
-macro_rules! thumb2_span {
-    ($($rev:literal)?) => {
+macro_rules! thumb2_one {
+    ($skip:literal $(, $rev:literal)?) => {
         concat!(
-            "2:\n",
             "ldrh {t}, [{dp}, {i}, lsl #1]\n",
             // Stored ≤ new: the pixel stays.
             "cmp {t}, {z}, lsr #16\n",
-            "bls 3f\n",
+            "bls ", $skip, "f\n",
             "lsrs {t}, {z}, #16\n",
             "strh {t}, [{dp}, {i}, lsl #1]\n",
             "and {t}, {hi}, #0x7e0\n",
@@ -60,12 +62,109 @@ macro_rules! thumb2_span {
             "orr {t}, {t}, {u}\n",
             $($rev, "\n",)?
             "strh {t}, [{cp}, {i}, lsl #1]\n",
-            "3:\n",
+            $skip, ":\n",
             "adds {lo}, {lo}, {dlo}\n",
             "adc {hi}, {hi}, {dhi}\n",
             "add {z}, {z}, {dz}\n",
             "adds {i}, {i}, #1\n",
-            "bne 2b",
+        )
+    };
+}
+
+/// Two pixels of the span loop at indices `{i}` and `{i} + 1`, whose cells are
+/// word-aligned, with the DSP extension (see [`super::dsp`] for why each step is
+/// exact): the integer parts of both depths side by side (`PKHTB`), both depth
+/// tests in one `USUB16` (a half's GE flags set where new ≥ stored: the stored
+/// pixel stays), both depths and both pixels chosen by one `SEL` each and stored as
+/// one word. The second pixel's colour is the first's plus `dc` (the 64-bit add of
+/// the single step), and the colour moves on from it by `dc` again; the 5-6-5
+/// fields of both are gathered by one half-word pack and one mask per channel (red
+/// and blue `PKHTB`, green `PKHBT`). `$v`: the third temporary; `$loop`: the
+/// label of the loop.
+#[cfg(fixshade_dsp)]
+macro_rules! thumb2_pair {
+    ($v:literal, $loop:literal $(, $rev:literal)?) => {
+        concat!(
+            $loop, ":\n",
+            "add {t}, {z}, {dz}\n",
+            "pkhtb {u}, {t}, {z}, asr #16\n",
+            "add {z}, {t}, {dz}\n",
+            "ldr {t}, [{dp}, {i}, lsl #1]\n",
+            "usub16 ", $v, ", {u}, {t}\n",
+            "sel {t}, {t}, {u}\n",
+            "str {t}, [{dp}, {i}, lsl #1]\n",
+            // The second pixel's colour (u, v), then the colour two pixels on.
+            "adds {u}, {lo}, {dlo}\n",
+            "adc ", $v, ", {hi}, {dhi}\n",
+            "pkhtb {t}, {u}, {lo}, asr #16\n",
+            "adds {lo}, {u}, {dlo}\n",
+            "and {t}, {t}, #0x001F001F\n",
+            "pkhtb {u}, ", $v, ", {hi}, asr #16\n",
+            "and {u}, {u}, #0xF800F800\n",
+            "orr {t}, {t}, {u}\n",
+            "pkhbt {u}, {hi}, ", $v, ", lsl #16\n",
+            // The carry of the `adds` above: no instruction between sets flags.
+            "adc {hi}, ", $v, ", {dhi}\n",
+            "lsr {u}, {u}, #5\n",
+            "and {u}, {u}, #0x003F003F\n",
+            "orr {t}, {t}, {u}, lsl #5\n",
+            $($rev, "\n",)?
+            "ldr {u}, [{cp}, {i}, lsl #1]\n",
+            "sel {t}, {u}, {t}\n",
+            "str {t}, [{cp}, {i}, lsl #1]\n",
+            "adds {i}, {i}, #2\n",
+            "bne ", $loop, "b\n",
+        )
+    };
+}
+
+/// The span loop of ARMv7-M and later (Thumb-2), as one template for both loops
+/// that run it ([`thumb2`], [`packed_565_rows`]): both rows indexed from their ends
+/// by a negative pixel index `{i}` (scaled by two in the address) that steps up to
+/// zero, so one register and one flag-setting add count the loop. Spans of at
+/// least six pixels are drawn two pixels a step ([`thumb2_pair`]) over
+/// word-aligned cells: a first pixel whose cells are not aligned goes alone
+/// first, and an odd pixel left at the end goes alone last (the pair loop then
+/// runs with both rows' ends moved back by a pixel). Shorter spans, and the spans
+/// of a target whose colour and depth cells are not aligned alike, go one pixel a
+/// step ([`thumb2_one`]): no word access is unaligned (ARMv7-M allows unaligned
+/// `LDR`/`STR` only to normal memory and only while `CCR.UNALIGN_TRP` is clear). `$v`: the pair loop's third temporary; `$rev`:
+/// an instruction applied to the pixel before its store. Labels 3 and 5 to 13 are
+/// its own.
+#[cfg(fixshade_dsp)]
+macro_rules! thumb2_span {
+    ($v:literal $(, $rev:literal)?) => {
+        concat!(
+            // Spans of fewer than six pixels cost more in the alignment and the
+            // odd pixel than the pairs save: one pixel at a time.
+            "cmn {i}, #6\n",
+            "bgt 3f\n",
+            // Colour and depth cells not aligned alike (the two buffers' addresses
+            // differ modulo 4): no pair is word-aligned in both.
+            "eor {t}, {cp}, {dp}\n",
+            "tst {t}, #2\n",
+            "bne 3f\n",
+            "add {t}, {dp}, {i}, lsl #1\n",
+            "tst {t}, #2\n",
+            "beq 6f\n",
+            thumb2_one!("5" $(, $rev)?),
+            "6:\n",
+            "tst {i}, #1\n",
+            "bne 12f\n",
+            thumb2_pair!($v, "7" $(, $rev)?),
+            "b 9f\n",
+            "12:\n",
+            "subs {dp}, {dp}, #2\n",
+            "subs {cp}, {cp}, #2\n",
+            "adds {i}, {i}, #1\n",
+            thumb2_pair!($v, "13" $(, $rev)?),
+            "adds {dp}, {dp}, #2\n",
+            "adds {cp}, {cp}, #2\n",
+            "subs {i}, {i}, #1\n",
+            "3:\n",
+            thumb2_one!("8" $(, $rev)?),
+            "bne 3b\n",
+            "9:\n",
         )
     };
 }
@@ -129,8 +228,11 @@ pub(crate) fn each_row(
 /// The rows' first `n = min(color.len(), depth.len())` pixels as the packed loop
 /// writes them; `swap`: store the pixel byte-swapped (`Rgb565Be`). On ARMv6-M the
 /// loop is inlined into each fill, except with `small-flash` (the micro:bit
-/// images), where every span calls the one copy in [`v6m_outlined`].
+/// images), where every span calls the one copy in [`v6m_outlined`]. `pairs`: on
+/// ARMv7E-M, spans of six pixels or more go two pixels a step ([`thumb2_span`]);
+/// for the fills of band draws, whose triangles do not take [`packed_565_rows`].
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn packed_565_span(
     color: &mut [u16],
     depth: &mut [u16],
@@ -139,14 +241,16 @@ pub(crate) fn packed_565_span(
     z: i32,
     dz: i32,
     swap: bool,
+    pairs: bool,
 ) {
-    span::<{ cfg!(feature = "small-flash") }>(color, depth, c, dc, z, dz, swap);
+    span::<{ cfg!(feature = "small-flash") }>(color, depth, c, dc, z, dz, swap, pairs);
 }
 
 /// [`packed_565_span`]; `OUTLINED`: on ARMv6-M through [`v6m_outlined`] (one copy
 /// for the spans of every fill), else with the loop inlined (each fill's spans, and
 /// the row loop [`packed_565_rows`], itself one copy).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn span<const OUTLINED: bool>(
     color: &mut [u16],
     depth: &mut [u16],
@@ -155,6 +259,7 @@ fn span<const OUTLINED: bool>(
     z: i32,
     dz: i32,
     swap: bool,
+    pairs: bool,
 ) {
     let n = color.len().min(depth.len());
     if n == 0 {
@@ -163,7 +268,9 @@ fn span<const OUTLINED: bool>(
     let (lo, hi) = (c as u32, (c >> 32) as u32);
     let (dlo, dhi) = (dc as u32, (dc >> 32) as u32);
     #[cfg(fixshade_dsp)]
-    thumb2(color, depth, n, [lo, hi, dlo, dhi], z, dz, swap);
+    thumb2(color, depth, n, [lo, hi, dlo, dhi], z, dz, swap, pairs);
+    #[cfg(fixshade_v6m)]
+    let _ = pairs;
     #[cfg(fixshade_v6m)]
     if OUTLINED {
         v6m_outlined(color, depth, n, [lo, hi, dlo, dhi], z, dz, swap);
@@ -239,7 +346,7 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
             let (a, e) = (at + x0 as usize, at + x1 as usize);
             if let (Some(cr), Some(dr)) = (buf.color.get_mut(a..e), buf.depth.get_mut(a..e)) {
                 let (c, z) = q.at(x0);
-                span::<false>(cr, dr, c, q.pgx, z, q.gzx, SWAP);
+                span::<false>(cr, dr, c, q.pgx, z, q.gzx, SWAP, false);
                 covered += (x1 - x0) as u32;
             }
         }
@@ -312,8 +419,9 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
             // the cells `[x0, x1)` of the `rows` rows from `cp` and `dp`: each row
             // `width` cells, the first `first` rows into the buffers, the last
             // ending at `end·width`, within both (checked above); 0 ≤ x0 < x1 ≤
-            // width by the clamps. Loads from the same cells and the block only;
-            // registers otherwise (flags clobbered, stack untouched).
+            // width by the clamps (a pair's word: two cells of one span). Loads
+            // from the same cells and the block only; registers otherwise (flags
+            // clobbered; one word pushed before each span and popped after it).
             #[allow(unsafe_code)]
             unsafe {
                 core::arch::asm!(
@@ -345,7 +453,11 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
                     "add {cp}, {cp}, {t}, lsl #1",
                     "add {dp}, {dp}, {t}, lsl #1",
                     "rsb {i}, {u}, #0",
-                    thumb2_span!($($rev)?),
+                    // The span loop takes the block's address for its third
+                    // temporary: it waits on the stack.
+                    "str {s}, [sp, #-4]!",
+                    thumb2_span!("{s}" $(, $rev)?),
+                    "ldr {s}, [sp], #4",
                     "4:",
                     // The next row's values.
                     "ldrd {lo}, {hi}, [{s}, #40]",
@@ -398,7 +510,6 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
                     i = out(reg) _,
                     t = out(reg) _,
                     u = out(reg) _,
-                    options(nostack),
                 );
             }
         };
@@ -415,9 +526,16 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
     st[24]
 }
 
-/// ARMv7-M and later (Thumb-2): the span loop [`thumb2_span`] over one span.
+/// ARMv7-M and later (Thumb-2): one span, two pixels a step ([`thumb2_span`]) if
+/// `pairs` and it has six pixels or more, else a pixel a step ([`thumb2_one`]).
+/// Whole-frame fills pass `pairs` false: their triangles of six rows or more take
+/// [`packed_565_rows`], and the others' spans are short (about two pixels a span
+/// on the bench sphere at 128×80 @ 320×240), where the pair loop's twelfth
+/// register costs the fill more than the pairs save (its draw 1.5 % more
+/// instructions).
 #[cfg(fixshade_dsp)]
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn thumb2(
     color: &mut [u16],
     depth: &mut [u16],
@@ -426,33 +544,45 @@ fn thumb2(
     z: i32,
     dz: i32,
     swap: bool,
+    pairs: bool,
 ) {
     let (cp, dp) = (color[n..].as_mut_ptr(), depth[n..].as_mut_ptr());
     // 1 ≤ n ≤ 4096 (the guard band): −n fits i32 and is below zero.
     let i = -(n as i32);
+    // The assembly of `$tpl` over the span's registers; `$v`: the pair loop's
+    // third temporary.
+    macro_rules! span_asm {
+        ($($tpl:expr),+ ; $($v:ident)?) => {
+            core::arch::asm!(
+                $($tpl),+,
+                cp = in(reg) cp,
+                dp = in(reg) dp,
+                i = inout(reg) i => _,
+                lo = inout(reg) lo => _,
+                hi = inout(reg) hi => _,
+                dlo = in(reg) dlo,
+                dhi = in(reg) dhi,
+                z = inout(reg) z => _,
+                dz = in(reg) dz,
+                t = out(reg) _,
+                u = out(reg) _,
+                $($v = out(reg) _,)?
+                options(nostack),
+            )
+        };
+    }
     macro_rules! run {
         ($($rev:literal)?) => {
             // SAFETY: the loads and stores are at `cp + 2i` and `dp + 2i` for
             // i = −n, −n + 1, …, −1: the n two-byte cells of `color[..n]` and
-            // `depth[..n]`, borrowed mutably here; registers otherwise (flags
-            // clobbered, stack untouched).
+            // `depth[..n]` (the pairs' words: cells i and i + 1, both of them),
+            // borrowed mutably here; registers otherwise (flags clobbered, stack
+            // untouched).
             #[allow(unsafe_code)]
-            unsafe {
-                core::arch::asm!(
-                    thumb2_span!($($rev)?),
-                    cp = in(reg) cp,
-                    dp = in(reg) dp,
-                    i = inout(reg) i => _,
-                    lo = inout(reg) lo => _,
-                    hi = inout(reg) hi => _,
-                    dlo = in(reg) dlo,
-                    dhi = in(reg) dhi,
-                    z = inout(reg) z => _,
-                    dz = in(reg) dz,
-                    t = out(reg) _,
-                    u = out(reg) _,
-                    options(nostack),
-                );
+            if pairs && n >= 6 {
+                unsafe { span_asm!(thumb2_span!("{v}" $(, $rev)?); v) }
+            } else {
+                unsafe { span_asm!("2:", thumb2_one!("3" $(, $rev)?), "bne 2b";) }
             }
         };
     }

@@ -515,7 +515,7 @@ where
             if let Some((color, depth, x0)) = span {
                 let c = crate::math::packed_at(c_row, pgx, x0);
                 let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
-                pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx);
+                pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx, W::ACTIVE);
             }
             c_row = c_row.wrapping_add(pgy);
             z_row = z_row.wrapping_add(gzy);

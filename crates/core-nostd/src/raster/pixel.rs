@@ -248,6 +248,9 @@ pub(crate) fn swapped_565<P: PixelFormat>() -> bool {
 /// the packed colour `c` and depth `z`, stepping by `dc` and `dz` per pixel. The
 /// caller guarantees that every channel of every pixel lies in its lane (true at
 /// covered pixels of a triangle whose increments are unwrapped, by the setup bound).
+///
+/// `pairs`: on ARMv7E-M, the long spans two pixels a step (band draws; see
+/// `super::asm::packed_565_span`).
 #[inline(always)]
 pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
     color: &mut [P::Raw],
@@ -256,16 +259,19 @@ pub(crate) fn write_packed<P: PixelFormat, Z: DepthMode>(
     dc: u64,
     mut z: i32,
     dz: i32,
+    pairs: bool,
 ) {
     // On the Cortex-M cores the 5-6-5 formats over 16-bit depth take the loop in
     // assembly (see `super::asm`): the same pixels in fewer instructions.
     #[cfg(any(fixshade_dsp, fixshade_v6m))]
     if Z::TEST && asm_565::<P>() {
         if let (Some(cr), Some(dr)) = (P::as_u16(&mut *color), DepthFormat::as_u16(&mut *depth)) {
-            super::asm::packed_565_span(cr, dr, c, dc, z, dz, swapped_565::<P>());
+            super::asm::packed_565_span(cr, dr, c, dc, z, dz, swapped_565::<P>(), pairs);
             return;
         }
     }
+    #[cfg(not(any(fixshade_dsp, fixshade_v6m)))]
+    let _ = pairs;
     if Z::TEST {
         for (px, d) in color.iter_mut().zip(depth.iter_mut()) {
             if d.write_if_nearer(z) {
@@ -306,7 +312,7 @@ pub fn write_run<P: PixelFormat, Z: DepthMode, Sh: Shading>(
     let [dr, dg, db, dz] = *g;
     if Sh::INTERPOLATE {
         if let Some((c3, d3)) = Packed::<P>::start(v, g, color.len()) {
-            write_packed::<P, Z>(color, depth, c3, d3, z, dz);
+            write_packed::<P, Z>(color, depth, c3, d3, z, dz, false);
             return;
         }
         if Z::TEST {
