@@ -121,29 +121,22 @@ macro_rules! thumb2_pair {
 /// The span loop of ARMv7-M and later (Thumb-2), as one template for both loops
 /// that run it ([`thumb2`], [`packed_565_rows`]): both rows indexed from their ends
 /// by a negative pixel index `{i}` (scaled by two in the address) that steps up to
-/// zero, so one register and one flag-setting add count the loop. Spans of at
-/// least six pixels are drawn two pixels a step ([`thumb2_pair`]) over
-/// word-aligned cells: a first pixel whose cells are not aligned goes alone
-/// first, and an odd pixel left at the end goes alone last (the pair loop then
-/// runs with both rows' ends moved back by a pixel). Shorter spans, and the spans
-/// of a target whose colour and depth cells are not aligned alike, go one pixel a
-/// step ([`thumb2_one`]): no word access is unaligned (ARMv7-M allows unaligned
-/// `LDR`/`STR` only to normal memory and only while `CCR.UNALIGN_TRP` is clear). `$v`: the pair loop's third temporary; `$rev`:
-/// an instruction applied to the pixel before its store. Labels 3 and 5 to 13 are
-/// its own.
+/// zero, so one register and one flag-setting add count the loop. A span is drawn
+/// two pixels a step ([`thumb2_pair`]) over word-aligned cells: a first pixel
+/// whose cells are not aligned goes alone first, and an odd pixel left at the end
+/// goes alone last (the pair loop then runs with both rows' ends moved back by a
+/// pixel). The caller sends to label `3` (one pixel a step, [`thumb2_one`]) the
+/// spans of fewer than six pixels, which cost more in the alignment and the odd
+/// pixel than the pairs save, and those of a target whose colour and depth cells
+/// are not aligned alike (their addresses differ by 2 modulo 4: no pair is
+/// word-aligned in both), so that no word access is unaligned (ARMv7-M allows
+/// unaligned `LDR`/`STR` only to normal memory and only while `CCR.UNALIGN_TRP` is
+/// clear). `$v`: the pair loop's third temporary; `$rev`: an instruction applied
+/// to the pixel before its store. Labels 3 and 5 to 13 are its own.
 #[cfg(fixshade_dsp)]
 macro_rules! thumb2_span {
     ($v:literal $(, $rev:literal)?) => {
         concat!(
-            // Spans of fewer than six pixels cost more in the alignment and the
-            // odd pixel than the pairs save: one pixel at a time.
-            "cmn {i}, #6\n",
-            "bgt 3f\n",
-            // Colour and depth cells not aligned alike (the two buffers' addresses
-            // differ modulo 4): no pair is word-aligned in both.
-            "eor {t}, {cp}, {dp}\n",
-            "tst {t}, #2\n",
-            "bne 3f\n",
             "add {t}, {dp}, {i}, lsl #1\n",
             "tst {t}, #2\n",
             "beq 6f\n",
@@ -404,13 +397,14 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
     let dp = buf.depth.as_mut_ptr().wrapping_add(first * w);
     // The block the loop works on (word offsets in the assembly).
     #[rustfmt::skip]
-    let mut st: [u32; 25] = [
+    let mut st: [u32; 26] = [
         left.q as u32, left.r as u32, left.a as u32, left.b as u32, left.d as u32,      // 0
         right.q as u32, right.r as u32, right.a as u32, right.b as u32, right.d as u32, // 20
         p.c_row as u32, (p.c_row >> 32) as u32, p.z_row as u32, buf.width as u32,     // 40
         p.pgx as u32, (p.pgx >> 32) as u32, p.gzx as u32,                             // 56
         p.pgy as u32, (p.pgy >> 32) as u32, p.gzy as u32,                             // 68
         cp as u32, dp as u32, 2 * buf.width as u32, rows, 0,                          // 80
+        pair_limit(cp, dp) as u32,                                                    // 100
     ];
     let s = st.as_mut_ptr();
     macro_rules! run {
@@ -455,7 +449,11 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
                     "rsb {i}, {u}, #0",
                     // The span loop takes the block's address for its third
                     // temporary: it waits on the stack.
+                    "ldr {t}, [{s}, #100]",
                     "str {s}, [sp, #-4]!",
+                    // A pixel a step below the fill's limit (`pair_limit`).
+                    "cmp {i}, {t}",
+                    "bgt 3f",
                     thumb2_span!("{s}" $(, $rev)?),
                     "ldr {s}, [sp], #4",
                     "4:",
@@ -526,6 +524,21 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
     st[24]
 }
 
+/// The most a span's negative pixel index `−n` may be for [`thumb2_span`] to draw
+/// it in pairs, for rows of colour cells `cp` and depth cells `dp`: −6 (six pixels
+/// or more) when the cells are aligned alike, which holds for every row of a
+/// target (colour and depth rows are both `width` cells apart); `i32::MIN` (never)
+/// when they are not.
+#[cfg(fixshade_dsp)]
+#[inline(always)]
+fn pair_limit(cp: *mut u16, dp: *mut u16) -> i32 {
+    if (cp as usize ^ dp as usize) & 2 == 0 {
+        -6
+    } else {
+        i32::MIN
+    }
+}
+
 /// ARMv7-M and later (Thumb-2): one span, two pixels a step ([`thumb2_span`]) if
 /// `pairs` and it has six pixels or more, else a pixel a step ([`thumb2_one`]).
 /// Whole-frame fills pass `pairs` false: their triangles of six rows or more take
@@ -580,7 +593,16 @@ fn thumb2(
             // untouched).
             #[allow(unsafe_code)]
             if pairs && n >= 6 {
-                unsafe { span_asm!(thumb2_span!("{v}" $(, $rev)?); v) }
+                // Cells not aligned alike: a pixel a step (as `pair_limit`).
+                unsafe {
+                    span_asm!(
+                        "eor {t}, {cp}, {dp}",
+                        "tst {t}, #2",
+                        "bne 3f",
+                        thumb2_span!("{v}" $(, $rev)?);
+                        v
+                    )
+                }
             } else {
                 unsafe { span_asm!("2:", thumb2_one!("3" $(, $rev)?), "bne 2b";) }
             }

@@ -43,7 +43,7 @@ pub mod span;
 pub mod vertex;
 
 use crate::arrays;
-use edge::{first_row, EdgeStepper};
+use edge::{first_row, first_row_in_guard, EdgeStepper};
 use pixel::{DepthMode, NoDepth};
 use setup::{Setup, ATTRS};
 use shading::Shading;
@@ -468,12 +468,12 @@ where
 #[inline(always)]
 fn first_values(s: &setup::Record, rows: Range<i32>) -> Option<((i32, i32, i32), [i32; ATTRS])> {
     let [t, m, b] = s.xy;
-    let y_top = first_row(t.1).max(rows.start);
-    let y_bot = first_row(b.1).min(rows.end);
+    let y_top = first_row_in_guard(t.1).max(rows.start);
+    let y_bot = first_row_in_guard(b.1).min(rows.end);
     if y_top >= y_bot {
         return None;
     }
-    let rows = (y_top, first_row(m.1), y_bot);
+    let rows = (y_top, first_row_in_guard(m.1), y_bot);
     let (gx, gy) = (&s.gx, &s.gy);
     let anchor = s.anchor();
     let dy0 = rows.0.wrapping_sub(anchor.1);
@@ -607,7 +607,7 @@ where
     // to `y_top` (each step exact, so they equal steppers placed there directly).
     // Only a triangle that begins above the target's rows has one to resume.
     let mut resumed = None;
-    if W::ACTIVE && y_top > first_row(t.1) {
+    if W::ACTIVE && y_top > first_row_in_guard(t.1) {
         if let Some(w) = walk.get() {
             let gap = y_top.wrapping_sub(w.row);
             if w.row != Walk::EMPTY.row && (0..=RESUME_ROWS).contains(&gap) {
@@ -681,13 +681,8 @@ where
         short = None;
     };
     // Only a triangle that goes on below the target's rows is walked again.
-    if W::ACTIVE && y_bot < first_row(b.1) {
-        walk.put(Walk {
-            row: y_bot,
-            lower,
-            long,
-            short,
-        });
+    if W::ACTIVE && y_bot < first_row_in_guard(b.1) {
+        walk.put(y_bot, lower, long, short);
     }
     covered
 }
@@ -699,8 +694,8 @@ pub(crate) trait WalkSlot {
     const ACTIVE: bool;
     /// The walk to resume, if any.
     fn get(&self) -> Option<&Walk>;
-    /// Keeps where the walk stopped.
-    fn put(&mut self, w: Walk);
+    /// Keeps where the walk stopped: the row and the steppers there.
+    fn put(&mut self, row: i32, lower: bool, long: EdgeStepper, short: EdgeStepper);
 }
 
 impl WalkSlot for () {
@@ -710,7 +705,7 @@ impl WalkSlot for () {
         None
     }
     #[inline(always)]
-    fn put(&mut self, _: Walk) {}
+    fn put(&mut self, _: i32, _: bool, _: EdgeStepper, _: EdgeStepper) {}
 }
 
 impl WalkSlot for Option<&mut Walk> {
@@ -720,9 +715,9 @@ impl WalkSlot for Option<&mut Walk> {
         self.as_deref()
     }
     #[inline(always)]
-    fn put(&mut self, w: Walk) {
-        if let Some(slot) = self {
-            **slot = w;
+    fn put(&mut self, row: i32, lower: bool, long: EdgeStepper, short: EdgeStepper) {
+        if let Some(w) = self {
+            (w.row, w.lower, w.long, w.short) = (row, lower, long, short);
         }
     }
 }

@@ -34,7 +34,7 @@
 //! check). Depth: below 2¹⁴ + 4200 units, 0.32 of a u16 step, so the stored u16 is
 //! within 1 of the exact one.
 
-use super::edge::first_row;
+use super::edge::{first_row, first_row_in_guard};
 use super::vertex::ScreenVertex;
 use crate::arrays;
 use crate::divide::{wide_recip, Divide, Exact};
@@ -345,7 +345,10 @@ impl Record {
     /// row.
     #[inline(always)]
     pub(crate) fn anchor(&self) -> (i32, i32) {
-        (first_row(self.xy[0].0), first_row(self.xy[0].1))
+        (
+            first_row_in_guard(self.xy[0].0),
+            first_row_in_guard(self.xy[0].1),
+        )
     }
 
     /// The [`Setup`] of the triangle `v` this record was built from.

@@ -61,7 +61,7 @@ use core::ops::Range;
 
 use super::frame::{Frame, RenderError, Stats};
 use super::walk::{Triangle, TriangleFill};
-use crate::raster::edge::first_row;
+use crate::raster::edge::first_row_in_guard;
 use crate::raster::outside_guard;
 use crate::raster::setup::{lattice, Record};
 use crate::raster::span::{DepthMode, DepthTest, NoDepth, SpanMethod};
@@ -435,8 +435,8 @@ impl<P: PixelFormat, Sp: Specular> TriangleFill<P, Sp> for Binner<'_> {
 /// no row of the frame.
 #[inline]
 fn band_span(r: &Record, height: u32, band_rows: u32) -> Option<Range<usize>> {
-    let top = first_row(r.xy[0].1).max(0);
-    let bottom = first_row(r.xy[2].1).min(height as i32);
+    let top = first_row_in_guard(r.xy[0].1).max(0);
+    let bottom = first_row_in_guard(r.xy[2].1).min(height as i32);
     (top < bottom).then(|| {
         let (t, b) = (
             band_of(top as u32, band_rows),
