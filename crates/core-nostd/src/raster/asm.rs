@@ -529,7 +529,7 @@ pub(crate) fn packed_565_rows<const SWAP: bool>(
 /// or more) when the cells are aligned alike, which holds for every row of a
 /// target (colour and depth rows are both `width` cells apart); `i32::MIN` (never)
 /// when they are not.
-#[cfg(fixshade_dsp)]
+#[cfg(all(fixshade_dsp, not(feature = "small-flash")))]
 #[inline(always)]
 fn pair_limit(cp: *mut u16, dp: *mut u16) -> i32 {
     if (cp as usize ^ dp as usize) & 2 == 0 {

@@ -45,7 +45,7 @@ pub mod vertex;
 use crate::arrays;
 use edge::{first_row, first_row_in_guard, EdgeStepper};
 use pixel::{DepthMode, NoDepth};
-use setup::{Setup, ATTRS};
+use setup::{Lattice, Setup, ATTRS};
 use shading::Shading;
 pub(crate) use vertex::outside_guard;
 pub use vertex::{ScreenVertex, GUARD, SUBPIXEL_BITS};
@@ -412,7 +412,7 @@ where
     Z: DepthMode,
     Sh: Shading,
 {
-    fill_gradient::<P, T, Z, Sh, ()>(target, r, ())
+    fill_gradient::<P, T, Z, Sh, (), _>(target, r, ())
 }
 
 /// The constant-gradient fill of a set-up triangle ([`span::Gradient`]'s draw): the
@@ -430,13 +430,14 @@ where
 /// the test leaves the band draws and the smaller triangles as they were
 /// compiled).
 #[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn fill_gradient<P, T, Z, Sh, W>(target: &mut T, s: &setup::Record, walk: W) -> u32
+pub(crate) fn fill_gradient<P, T, Z, Sh, W, L>(target: &mut T, s: &L, walk: W) -> u32
 where
     P: PixelFormat,
     T: Target<P>,
     Z: DepthMode,
     Sh: Shading,
     W: WalkSlot,
+    L: Lattice,
 {
     // On the Cortex-M cores a triangle at least `asm::ROWS` rows tall, drawn whole
     // (not in bands) into a target of at least as many rows, 5-6-5 over 16-bit
@@ -448,81 +449,82 @@ where
         && Z::TEST
         && Sh::INTERPOLATE
         && pixel::asm_565::<P>()
-        && s.xy[2].1.wrapping_sub(s.xy[0].1) >= 16 * asm::ROWS
-        && s.unwrapped
+        && s.xy()[2].1.wrapping_sub(s.xy()[0].1) >= 16 * asm::ROWS
+        && s.unwrapped()
     {
         let r = target.rows();
         if r.end.wrapping_sub(r.start) >= asm::ROWS
             && target.has_depth()
             && asm::Rows565::of::<P, T>(target).is_some()
         {
-            return fill_565_rows::<P, T>(target, s);
+            return fill_565_rows::<P, T, L>(target, s);
         }
     }
-    fill_portable::<P, T, Z, Sh, W>(target, s, walk)
+    fill_portable::<P, T, Z, Sh, W, L>(target, s, walk)
 }
 
 /// The rows of a set-up triangle in the target's rows `rows` (`(y_top, y_mid,
 /// y_bot)`, as [`walk_rows`] takes them) and the lattice values at x = 0 of the
 /// first; `None` if it has no row there.
 #[inline(always)]
-fn first_values(s: &setup::Record, rows: Range<i32>) -> Option<((i32, i32, i32), [i32; ATTRS])> {
-    let [t, m, b] = s.xy;
+fn first_values(s: &impl Lattice, rows: Range<i32>) -> Option<((i32, i32, i32), [i32; ATTRS])> {
+    let [t, m, b] = s.xy();
     let y_top = first_row_in_guard(t.1).max(rows.start);
     let y_bot = first_row_in_guard(b.1).min(rows.end);
     if y_top >= y_bot {
         return None;
     }
     let rows = (y_top, first_row_in_guard(m.1), y_bot);
-    let (gx, gy) = (&s.gx, &s.gy);
-    let anchor = s.anchor();
-    let dy0 = rows.0.wrapping_sub(anchor.1);
-    let base: [i32; ATTRS] = arrays::from_fn(|k| {
-        s.a[k]
-            .wrapping_sub(anchor.0.wrapping_mul(gx[k]))
-            .wrapping_add(dy0.wrapping_mul(gy[k]))
-    });
-    Some((rows, base))
+    Some((rows, s.row_start(y_top)))
 }
 
 /// [`fill_gradient`] through [`Target::row`], for every target and format.
 #[inline(always)]
-fn fill_portable<P, T, Z, Sh, W>(target: &mut T, s: &setup::Record, walk: W) -> u32
+fn fill_portable<P, T, Z, Sh, W, L>(target: &mut T, s: &L, walk: W) -> u32
 where
     P: PixelFormat,
     T: Target<P>,
     Z: DepthMode,
     Sh: Shading,
     W: WalkSlot,
+    L: Lattice,
 {
     if Z::TEST && !target.has_depth() {
-        return fill_portable::<P, T, NoDepth, Sh, W>(target, s, walk);
+        return fill_portable::<P, T, NoDepth, Sh, W, L>(target, s, walk);
     }
     let Some((rows, base)) = first_values(s, target.rows()) else {
         return 0;
     };
-    let (gx, gy) = (&s.gx, &s.gy);
+    let (gx, gy) = (s.gx(), s.gy());
     let packed = (
         pixel::packed_channels::<P>(&base),
         pixel::packed_channels::<P>(gx),
         pixel::packed_channels::<P>(gy),
     );
     if let (Some(mut c_row), Some(pgx), Some(pgy), true, true) =
-        (packed.0, packed.1, packed.2, s.unwrapped, Sh::INTERPOLATE)
+        (packed.0, packed.1, packed.2, s.unwrapped(), Sh::INTERPOLATE)
     {
         let (mut z_row, gzx, gzy) = (base[3], gx[3], gy[3]);
-        return walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, no_half, |span| {
-            if let Some((color, depth, x0)) = span {
-                let c = crate::math::packed_at(c_row, pgx, x0);
-                let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
-                pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx, W::ACTIVE);
-            }
-            c_row = c_row.wrapping_add(pgy);
-            z_row = z_row.wrapping_add(gzy);
-        });
+        return walk_rows::<P, T, Z, W>(
+            target,
+            s.xy(),
+            s.mid_left(),
+            rows,
+            walk,
+            no_half,
+            |span| {
+                if let Some((color, depth, x0)) = span {
+                    let c = crate::math::packed_at(c_row, pgx, x0);
+                    let z = z_row.wrapping_add(x0.wrapping_mul(gzx));
+                    pixel::write_packed::<P, Z>(color, depth, c, pgx, z, gzx, W::ACTIVE);
+                }
+                c_row = c_row.wrapping_add(pgy);
+                z_row = z_row.wrapping_add(gzy);
+            },
+        );
     }
     let mut row = base;
-    walk_rows::<P, T, Z, W>(target, s.xy, s.mid_left, rows, walk, no_half, |span| {
+    walk_rows::<P, T, Z, W>(target, s.xy(), s.mid_left(), rows, walk, no_half, |span| {
         if let Some((color, depth, x0)) = span {
             let v = arrays::from_fn(|k| row[k].wrapping_add(x0.wrapping_mul(gx[k])));
             pixel::write_run::<P, Z, Sh>(color, depth, v, gx);
@@ -539,15 +541,15 @@ where
 /// that [`asm::Rows565::of`] finds them). Not inlined: one copy per target type.
 #[cfg(all(any(fixshade_dsp, fixshade_v6m), not(feature = "small-flash")))]
 #[inline(never)]
-fn fill_565_rows<P: PixelFormat, T: Target<P>>(target: &mut T, s: &setup::Record) -> u32 {
+fn fill_565_rows<P: PixelFormat, T: Target<P>, L: Lattice>(target: &mut T, s: &L) -> u32 {
     let Some((rows, base)) = first_values(s, target.rows()) else {
         return 0;
     };
     // A 5-6-5 format's lanes fit: the packed values exist.
     let (Some(c_row), Some(pgx), Some(pgy)) = (
         pixel::packed_channels::<P>(&base),
-        pixel::packed_channels::<P>(&s.gx),
-        pixel::packed_channels::<P>(&s.gy),
+        pixel::packed_channels::<P>(s.gx()),
+        pixel::packed_channels::<P>(s.gy()),
     ) else {
         return 0;
     };
@@ -556,8 +558,8 @@ fn fill_565_rows<P: PixelFormat, T: Target<P>>(target: &mut T, s: &setup::Record
         pgx,
         pgy,
         z_row: base[3],
-        gzx: s.gx[3],
-        gzy: s.gy[3],
+        gzx: s.gx()[3],
+        gzy: s.gy()[3],
     };
     let half = |target: &mut T, l: &mut EdgeStepper, r: &mut EdgeStepper, ys| {
         let mut buf = asm::Rows565::of::<P, T>(target)?;
@@ -568,7 +570,7 @@ fn fill_565_rows<P: PixelFormat, T: Target<P>>(target: &mut T, s: &setup::Record
         })
     };
     // `half` finds the rows (the caller checked), so `row` is not called.
-    walk_rows::<P, T, pixel::DepthTest, ()>(target, s.xy, s.mid_left, rows, (), half, |_| {})
+    walk_rows::<P, T, pixel::DepthTest, ()>(target, s.xy(), s.mid_left(), rows, (), half, |_| {})
 }
 
 /// No half drawn by [`walk_rows`]'s `half`: every row through `row`.

@@ -34,7 +34,7 @@
 //! check). Depth: below 2¹⁴ + 4200 units, 0.32 of a u16 step, so the stored u16 is
 //! within 1 of the exact one.
 
-use super::edge::{first_row, first_row_in_guard};
+use super::edge::first_row;
 use super::vertex::ScreenVertex;
 use crate::arrays;
 use crate::divide::{wide_recip, Divide, Exact};
@@ -284,8 +284,7 @@ fn bit_len(v: u64) -> u32 {
 /// 2⁻⁵ of a step) and `… + 2¹⁴ + 1` for depth.
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub(crate) fn setup_fast(v: [ScreenVertex; 3]) -> Option<Setup> {
-    let r = [&v[0], &v[1], &v[2]];
-    lattice(r).map(|l| l.setup(r))
+    lattice_into::<Setup>([&v[0], &v[1], &v[2]])
 }
 
 /// A triangle set up for the constant-gradient fill: its vertex positions sorted
@@ -308,9 +307,10 @@ pub struct Record {
     pub(crate) gx: [i32; ATTRS],
     /// As [`Setup::gy`].
     pub(crate) gy: [i32; ATTRS],
-    /// As [`Setup::a`] (the anchor is the pixel of the top vertex's first row,
-    /// [`Setup::anchor`]).
-    pub(crate) a: [i32; ATTRS],
+    /// The lattice's values at pixel (0, 0), modulo 2³² ([`Setup::at`]`(0, 0)`):
+    /// a row's values at x = 0 are these plus the row times `gy`, without the
+    /// anchor.
+    pub(crate) origin: [i32; ATTRS],
     /// As [`Setup::mid_left`].
     pub(crate) mid_left: bool,
     /// As [`Setup::unwrapped`].
@@ -323,7 +323,7 @@ impl Record {
         xy: [(0, 0); 3],
         gx: [0; ATTRS],
         gy: [0; ATTRS],
-        a: [0; ATTRS],
+        origin: [0; ATTRS],
         mid_left: false,
         unwrapped: false,
     };
@@ -335,47 +335,180 @@ impl Record {
             xy: arrays::map(s.v, |p| (p.x, p.y)),
             gx: s.gx,
             gy: s.gy,
-            a: s.a,
+            origin: s.at(0, 0),
             mid_left: s.mid_left,
             unwrapped: s.unwrapped,
         }
     }
+}
 
-    /// The lattice anchor ([`Setup::anchor`]): the pixel of the top vertex's first
-    /// row.
+/// What the constant-gradient fill (`super::fill_gradient`) draws from: a
+/// [`Record`], or a [`Setup`] (a triangle set up with another divider, drawn
+/// without building a record: the same values, from its anchor).
+pub(crate) trait Lattice {
+    /// Q12.4 positions of the top, middle and bottom vertex.
+    fn xy(&self) -> [(i32, i32); 3];
+    /// Increments along x.
+    fn gx(&self) -> &[i32; ATTRS];
+    /// Increments along y.
+    fn gy(&self) -> &[i32; ATTRS];
+    /// As [`Setup::mid_left`].
+    fn mid_left(&self) -> bool;
+    /// As [`Setup::unwrapped`].
+    fn unwrapped(&self) -> bool;
+    /// The lattice's values at x = 0 of row `y` (wrapping: exact modulo 2³², as
+    /// [`Setup::at`]).
+    fn row_start(&self, y: i32) -> [i32; ATTRS];
+}
+
+/// The accessors of [`Lattice`] that read a field of the same name.
+macro_rules! lattice_fields {
+    () => {
+        #[inline(always)]
+        fn gx(&self) -> &[i32; ATTRS] {
+            &self.gx
+        }
+        #[inline(always)]
+        fn gy(&self) -> &[i32; ATTRS] {
+            &self.gy
+        }
+        #[inline(always)]
+        fn mid_left(&self) -> bool {
+            self.mid_left
+        }
+        #[inline(always)]
+        fn unwrapped(&self) -> bool {
+            self.unwrapped
+        }
+    };
+}
+
+impl Lattice for Record {
     #[inline(always)]
-    pub(crate) fn anchor(&self) -> (i32, i32) {
-        (
-            first_row_in_guard(self.xy[0].0),
-            first_row_in_guard(self.xy[0].1),
-        )
+    fn xy(&self) -> [(i32, i32); 3] {
+        self.xy
     }
-
-    /// The [`Setup`] of the triangle `v` this record was built from.
+    lattice_fields!();
     #[inline(always)]
-    fn setup(&self, v: [&ScreenVertex; 3]) -> Setup {
-        let [a, b, c] = order3(v);
-        Setup {
-            v: [*v[a], *v[b], *v[c]],
-            mid_left: self.mid_left,
-            gx: self.gx,
-            gy: self.gy,
-            anchor: self.anchor(),
-            a: self.a,
-            unwrapped: self.unwrapped,
+    fn row_start(&self, y: i32) -> [i32; ATTRS] {
+        arrays::from_fn(|k| self.origin[k].wrapping_add(y.wrapping_mul(self.gy[k])))
+    }
+}
+
+impl Lattice for Setup {
+    #[inline(always)]
+    fn xy(&self) -> [(i32, i32); 3] {
+        arrays::map(self.v, |p| (p.x, p.y))
+    }
+    lattice_fields!();
+    #[inline(always)]
+    fn row_start(&self, y: i32) -> [i32; ATTRS] {
+        let dy = y.wrapping_sub(self.anchor.1);
+        arrays::from_fn(|k| {
+            self.a[k]
+                .wrapping_sub(self.anchor.0.wrapping_mul(self.gx[k]))
+                .wrapping_add(dy.wrapping_mul(self.gy[k]))
+        })
+    }
+}
+
+/// The lattice of [`setup`] as a [`Record`] (see [`setup_fast`] for how it is
+/// computed); `None` for a zero-area triangle.
+#[cfg_attr(not(target_os = "none"), inline(always))]
+pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
+    lattice_into::<Record>(v)
+}
+
+/// What [`lattice_into`] builds: a [`Record`] (the values at pixel (0, 0)) or a
+/// [`Setup`] (the values at the anchor, with the vertices).
+trait LatticeOut: Sized {
+    /// From the exact setup, for what the fast path does not take.
+    fn exact(s: Setup) -> Self;
+    /// From the sorted vertices `t`, `m`, `b`, the middle vertex's side and the
+    /// increments.
+    fn build(tmb: [&ScreenVertex; 3], mid_left: bool, gx: [i32; ATTRS], gy: [i32; ATTRS]) -> Self;
+}
+
+impl LatticeOut for Record {
+    #[inline(always)]
+    fn exact(s: Setup) -> Self {
+        Record::of(&s)
+    }
+    #[inline(always)]
+    fn build(
+        [t, m, b]: [&ScreenVertex; 3],
+        mid_left: bool,
+        gx: [i32; ATTRS],
+        gy: [i32; ATTRS],
+    ) -> Self {
+        // The centre of pixel (0, 0) from the top vertex, in subpixels: |o| ≤
+        // 2^16 + 8 (guard band).
+        let a = values_at(t, &gx, &gy, (8 - t.x, 8 - t.y));
+        Record {
+            xy: [(t.x, t.y), (m.x, m.y), (b.x, b.y)],
+            mid_left,
+            gx,
+            gy,
+            origin: a,
+            unwrapped: true,
         }
     }
 }
 
-/// The lattice of [`setup`] (see [`setup_fast`] for how it is computed); `None` for
-/// a zero-area triangle.
-#[cfg_attr(not(target_os = "none"), inline(always))]
-pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
+impl LatticeOut for Setup {
+    #[inline(always)]
+    fn exact(s: Setup) -> Self {
+        s
+    }
+    #[inline(always)]
+    fn build(
+        [t, m, b]: [&ScreenVertex; 3],
+        mid_left: bool,
+        gx: [i32; ATTRS],
+        gy: [i32; ATTRS],
+    ) -> Self {
+        let anchor = (first_row(t.x), first_row(t.y));
+        // The anchor's centre from the top vertex, in [0, 16) subpixels.
+        let o = (16 * anchor.0 + 8 - t.x, 16 * anchor.1 + 8 - t.y);
+        Setup {
+            v: [*t, *m, *b],
+            mid_left,
+            gx,
+            gy,
+            anchor,
+            a: values_at(t, &gx, &gy, o),
+            unwrapped: true,
+        }
+    }
+}
+
+/// The lattice's values at the pixel centre `o` subpixels from the top vertex
+/// `t` (|o| < 2¹⁷), rounding bias included: modulo 2³² by design (the depth is
+/// unsigned).
+#[inline(always)]
+fn values_at(
+    t: &ScreenVertex,
+    gx: &[i32; ATTRS],
+    gy: &[i32; ATTRS],
+    o: (i32, i32),
+) -> [i32; ATTRS] {
+    let a0 = [t.c[0], t.c[1], t.c[2], t.z as i32];
+    arrays::from_fn(|k| {
+        a0[k]
+            .wrapping_add(origin_offset(gx[k], gy[k], o.0, o.1))
+            .wrapping_add(ROUND_BIAS)
+    })
+}
+
+/// The lattice of [`setup`] built into `L` (see [`setup_fast`] for how it is
+/// computed); `None` for a zero-area triangle.
+#[inline(always)]
+fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     let order = order3(v);
     let [i0, i1, i2] = order;
     let (t, m, b) = (v[i0], v[i1], v[i2]);
     // The exact path, for what the fast one does not take.
-    let exact = || setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| Record::of(&s));
+    let exact = || setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| L::exact(s));
     // Colour channels outside [0, 2^30) (never from the vertex stage) take the exact
     // path; inside, every delta fits i32 with a bit to spare.
     let cs = t.c[0] | t.c[1] | t.c[2] | m.c[0] | m.c[1] | m.c[2] | b.c[0] | b.c[1] | b.c[2];
@@ -467,38 +600,24 @@ pub(crate) fn lattice(v: [&ScreenVertex; 3]) -> Option<Record> {
         (gx[k], gy[k]) = increments(d1[k], d2[k], &bb, &round);
     }
     (gx[3], gy[3]) = increments(z1, z2, &bb, &RoundShift::new(sh - 2));
-    let anchor = (first_row(t.x), first_row(t.y));
-    // Offsets of the anchor centre from the top vertex, in [0, 16) subpixels.
-    let ox = 16 * anchor.0 + 8 - t.x;
-    let oy = 16 * anchor.1 + 8 - t.y;
-    let a0 = [t.c[0], t.c[1], t.c[2], t.z as i32];
-    let a = arrays::from_fn(|k| {
-        let off = anchor_offset(gx[k], gy[k], ox, oy);
-        // Modulo 2^32 by design (the depth is unsigned).
-        a0[k].wrapping_add(off).wrapping_add(ROUND_BIAS)
-    });
-    Some(Record {
-        xy: [(t.x, t.y), (m.x, m.y), (b.x, b.y)],
-        // y points down: the middle vertex is left of top→bottom when det < 0.
-        mid_left: neg,
-        gx,
-        gy,
-        a,
-        unwrapped: true,
-    })
+    // y points down: the middle vertex is left of top→bottom when det < 0.
+    Some(L::build([t, m, b], neg, gx, gy))
 }
 
-/// `⌊(gx·ox + gy·oy + 8)/16⌋` modulo 2³² for offsets `ox`, `oy` in [0, 16): the
-/// change of an attribute from the top vertex to the anchor's centre. The exact
-/// sum (|g| < 2³¹, products below 2³⁵) on the host and ARMv7-M, where a 32×32→64
-/// product is one instruction; on ARMv6-M ([`anchor_offset_split`]) from 32-bit
-/// products modulo 2³². Both give the same bits (tested).
+/// `⌊(gx·ox + gy·oy + 8)/16⌋` modulo 2³² for offsets |`ox`|, |`oy`| < 2¹⁷
+/// subpixels: the change of an attribute from the top vertex to a pixel centre
+/// (the anchor's, or that of pixel (0, 0): the two differ by whole steps `gx`,
+/// `gy` times 16, which the floor passes through unchanged, so both are the
+/// same lattice). The
+/// exact sum (|g| < 2³¹: products below 2⁴⁸) on the host and ARMv7-M, where a
+/// 32×32→64 product is one instruction; on ARMv6-M ([`origin_offset_split`]) from
+/// 32-bit products modulo 2³². Both give the same bits (tested).
 #[inline(always)]
-fn anchor_offset(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
-    debug_assert!((0..16).contains(&ox) && (0..16).contains(&oy));
+fn origin_offset(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
+    debug_assert!(ox.unsigned_abs() < 1 << 17 && oy.unsigned_abs() < 1 << 17);
     #[cfg(fixshade_v6m)]
     {
-        anchor_offset_split(gx, gy, ox, oy)
+        origin_offset_split(gx, gy, ox, oy)
     }
     #[cfg(not(fixshade_v6m))]
     {
@@ -506,13 +625,13 @@ fn anchor_offset(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
     }
 }
 
-/// [`anchor_offset`] without a 64-bit product: with `g = 16·h + l` (`h = g >> 4`,
+/// [`origin_offset`] without a 64-bit product: with `g = 16·h + l` (`h = g >> 4`,
 /// `l = g & 15`), `g·o = 16·h·o + l·o`, so the quotient is `h_x·o_x + h_y·o_y` (taken
-/// modulo 2³²) plus `⌊(l_x·o_x + l_y·o_y + 8)/16⌋` (the sum below 2⁹): four
-/// `MULS` instead of two 64-bit products.
+/// modulo 2³²) plus `⌊(l_x·o_x + l_y·o_y + 8)/16⌋` (|l·o| < 2²¹, the sum below
+/// 2²³): four `MULS` instead of two 64-bit products.
 #[cfg(any(test, fixshade_v6m))]
 #[inline(always)]
-fn anchor_offset_split(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
+fn origin_offset_split(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
     let high = (gx >> 4)
         .wrapping_mul(ox)
         .wrapping_add((gy >> 4).wrapping_mul(oy));
@@ -625,21 +744,24 @@ pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Set
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::GUARD;
 
-    /// The split anchor offset against the exact 64-bit sum: every offset pair, the
-    /// extreme gradients and a million random ones.
+    /// The split origin offset against the exact 64-bit sum: the extreme
+    /// gradients at the extreme and small offsets, and a million random ones.
     #[test]
-    fn anchor_offset_split_equals_wide() {
+    fn origin_offset_split_equals_wide() {
         let wide = |gx: i32, gy: i32, ox: i32, oy: i32| {
             ((gx as i64 * ox as i64 + gy as i64 * oy as i64 + 8) >> 4) as i32
         };
         let edges = [0, 1, -1, 15, -16, 0xFFFF, -0x10000, i32::MAX, i32::MIN];
+        let lim = (1 << 17) - 1;
+        let offsets = (-20..20).chain([lim, -lim, lim - 15, 8 - GUARD, 8 + GUARD - 1]);
         for &gx in &edges {
             for &gy in &edges {
-                for ox in 0..16 {
-                    for oy in 0..16 {
+                for ox in offsets.clone() {
+                    for oy in offsets.clone() {
                         assert_eq!(
-                            anchor_offset_split(gx, gy, ox, oy),
+                            origin_offset_split(gx, gy, ox, oy),
                             wide(gx, gy, ox, oy),
                             "{gx} {gy} {ox} {oy}"
                         );
@@ -653,9 +775,11 @@ mod tests {
             seed ^= seed >> 7;
             seed ^= seed << 17;
             let (gx, gy) = (seed as i32 >> (seed >> 59), (seed >> 32) as i32);
-            let (ox, oy) = ((seed >> 40) as i32 & 15, (seed >> 44) as i32 & 15);
-            assert_eq!(anchor_offset_split(gx, gy, ox, oy), wide(gx, gy, ox, oy));
-            assert_eq!(anchor_offset(gx, gy, ox, oy), wide(gx, gy, ox, oy));
+            // Offsets over the whole range, some of them small.
+            let o = |sh: u64| ((seed >> sh) as i32 % (1 << 17)) >> ((seed >> (sh + 20)) & 15);
+            let (ox, oy) = (o(20), o(38));
+            assert_eq!(origin_offset_split(gx, gy, ox, oy), wide(gx, gy, ox, oy));
+            assert_eq!(origin_offset(gx, gy, ox, oy), wide(gx, gy, ox, oy));
         }
     }
 }

@@ -44,7 +44,7 @@ impl SpanMethod for Gradient {
         target: &mut T,
         tri: &Setup,
     ) -> u32 {
-        super::fill_gradient::<P, T, Z, Sh, ()>(target, &super::setup::Record::of(tri), ())
+        super::fill_gradient::<P, T, Z, Sh, (), _>(target, tri, ())
     }
     #[inline(always)]
     fn draw_vertices<P: PixelFormat, T: Target<P>, Z: DepthMode, Sh: Shading>(
@@ -52,7 +52,7 @@ impl SpanMethod for Gradient {
         v: [&ScreenVertex; 3],
     ) -> u32 {
         match &super::setup::lattice(v) {
-            Some(r) => super::fill_gradient::<P, T, Z, Sh, ()>(target, r, ()),
+            Some(r) => super::fill_gradient::<P, T, Z, Sh, (), _>(target, r, ()),
             None => 0,
         }
     }

@@ -396,7 +396,7 @@ impl Binner<'_> {
                 slot.xy = r.xy;
                 slot.gx = r.gx;
                 slot.gy = r.gy;
-                slot.a = r.a;
+                slot.origin = r.origin;
                 slot.mid_left = r.mid_left;
                 slot.unwrapped = r.unwrapped;
                 self.n += 1;
@@ -695,7 +695,7 @@ fn fill<P: PixelFormat, Z: DepthMode, Sh: Shading, T: Target<P>>(
     list.iter()
         .map(|&i| {
             let i = i as usize;
-            fill_gradient::<P, T, Z, Sh, _>(target, &records[i], walks.get_mut(i))
+            fill_gradient::<P, T, Z, Sh, _, _>(target, &records[i], walks.get_mut(i))
         })
         .sum()
 }
