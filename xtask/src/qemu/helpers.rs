@@ -17,6 +17,7 @@ use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A function of the ELF: start (Thumb bit cleared), size, name.
 struct Func {
@@ -130,32 +131,91 @@ pub(super) fn per_frame(
         .map(|(s, n)| format!("0x{s:x}+0x{n:x}"))
         .collect::<Vec<_>>()
         .join(",");
-    let log = dir.join("helpers.log");
-    let _ = std::fs::remove_file(&log);
-    let status = Command::new("qemu-system-arm")
+    // The log goes through a named pipe and is counted as QEMU writes it: a file
+    // would hold gigabytes (a line per helper block run) and, on a full disk, end
+    // in a cut line.
+    let fifo = dir.join("helpers.fifo");
+    let _ = std::fs::remove_file(&fifo);
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .map_err(|e| format!("cannot start mkfifo: {e}"))?;
+    if !made.success() {
+        return Err(format!("mkfifo {} failed ({made})", fifo.display()));
+    }
+    let mut qemu = Command::new("qemu-system-arm")
         .current_dir(dir)
         .args(["-cpu", cpu, "-machine", machine, "-nographic"])
         .args(["-semihosting-config", "enable=on,target=native"])
         .args(["-icount", "shift=10"])
         .args(["-d", "exec,nochain,in_asm", "-dfilter", &filter, "-D"])
-        .arg(&log)
+        .arg(&fifo)
         .arg("-kernel")
         .arg(elf)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::null())
-        .status()
+        .spawn()
         .map_err(|e| format!("cannot start qemu-system-arm: {e}"))?;
+    let opened = AtomicBool::new(false);
+    let (frames, status) = std::thread::scope(|s| {
+        let reader = s.spawn(|| {
+            let file = std::fs::File::open(&fifo).map_err(|e| format!("{}: {e}", fifo.display()));
+            opened.store(true, Ordering::SeqCst);
+            let mut log = Counted(BufReader::with_capacity(1 << 20, file?), 0);
+            let frames = count(&mut log, &marker)?;
+            Ok::<_, String>((frames, log.1))
+        });
+        let status = qemu.wait();
+        // A QEMU that ended before opening the pipe leaves the reader waiting
+        // for a writer: open it once for writing, so that the reader sees the
+        // end of the log.
+        if !opened.load(Ordering::SeqCst) {
+            let _ = std::fs::OpenOptions::new().write(true).open(&fifo);
+        }
+        let frames = reader
+            .join()
+            .unwrap_or_else(|_| Err("the log reader panicked".to_string()));
+        (frames, status)
+    });
+    let _ = std::fs::remove_file(&fifo);
+    let status = status.map_err(|e| format!("qemu-system-arm: {e}"))?;
     if !status.success() {
+        let log = frames.err().map(|e| format!(", its log: {e}"));
         return Err(format!(
-            "{}: the helper-count run failed ({status})",
-            elf.display()
+            "{}: the helper-count run failed ({status}{})",
+            elf.display(),
+            log.unwrap_or_default()
         ));
     }
-    let file = std::fs::File::open(&log).map_err(|e| format!("{}: {e}", log.display()))?;
-    let frames = count(BufReader::new(file), &marker);
-    let _ = std::fs::remove_file(&log);
-    frames
+    let (frames, bytes) = frames?;
+    eprintln!(
+        "xtask: {}: helper instructions counted from {} MB of execution log",
+        elf.display(),
+        bytes >> 20
+    );
+    Ok(frames)
+}
+
+/// A reader that counts the bytes read through it.
+struct Counted<R>(R, u64);
+
+impl<R: BufRead> std::io::Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.0.read(buf)?;
+        self.1 += n as u64;
+        Ok(n)
+    }
+}
+
+impl<R: BufRead> BufRead for Counted<R> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        self.0.fill_buf()
+    }
+    fn consume(&mut self, n: usize) {
+        self.1 += n as u64;
+        self.0.consume(n);
+    }
 }
 
 /// The helper instructions of each frame in an execution log (`-d
@@ -170,12 +230,20 @@ pub(super) fn per_frame(
 /// a timer event is in `cflags`, and an I/O instruction ends a block early);
 /// keyed by address, such a short block's size would then be counted for every
 /// later run of the full one.
+///
+/// A `Trace` line is written as a block is entered; a block that QEMU leaves
+/// before its first instruction (an interrupt due, the instruction budget spent,
+/// or the emulator's own timer asking the loop to look at its events, which
+/// depends on the host's speed) is followed by a `Stopped execution of TB chain
+/// before` line and traced again when it runs. Each trace is therefore counted
+/// only once the next line shows that its block ran.
 fn count(log: impl BufRead, marker: &HashMap<u32, Marker>) -> Result<Vec<u64>, String> {
     let mut size: HashMap<String, u64> = HashMap::new();
     // The size of the block translated last, until its first `Trace` line.
     let mut pending: Option<u64> = None;
-    let (mut on, mut acc, mut frames) = (false, 0u64, Vec::new());
-    let mut last: Option<u32> = None;
+    let mut frames = Frames::default();
+    // The block traced last: a marker or a helper block's size.
+    let mut entered: Option<Result<Marker, u64>> = None;
     for line in log.lines() {
         let line = line.map_err(|e| e.to_string())?;
         if line.starts_with("IN:") {
@@ -184,6 +252,8 @@ fn count(log: impl BufRead, marker: &HashMap<u32, Marker>) -> Result<Vec<u64>, S
             if let Some(n) = &mut pending {
                 *n += 1;
             }
+        } else if line.starts_with("Stopped execution of TB chain") {
+            entered = None;
         } else if line.starts_with("Trace ") {
             // `Trace cpu: host [cs_base/pc/flags/cflags] name`
             let key = line
@@ -199,25 +269,44 @@ fn count(log: impl BufRead, marker: &HashMap<u32, Marker>) -> Result<Vec<u64>, S
             if let Some(n) = pending.take() {
                 size.insert(key.to_string(), n);
             }
-            // A block whose run the instruction budget cuts off before its first
-            // instruction (an interrupt due there) is traced again when it runs:
-            // two traces of a marker in a row are one call (a frame has a measured
-            // span between two of its markers).
-            let again = last == Some(pc);
-            last = Some(pc);
-            match marker.get(&pc) {
-                Some(_) if again => {}
-                Some(Marker::On) => on = true,
-                Some(Marker::Off) => on = false,
-                Some(Marker::Frame) => frames.push(std::mem::take(&mut acc)),
-                Some(Marker::Discard) => acc = 0,
-                // The filter logs nothing but helpers and the markers.
-                None if on => acc += size.get(key).copied().unwrap_or(0),
-                None => {}
+            if let Some(b) = entered.take() {
+                frames.ran(b);
             }
+            // The filter logs nothing but helpers and the markers.
+            entered = Some(match marker.get(&pc) {
+                Some(&m) => Ok(m),
+                None => Err(size.get(key).copied().unwrap_or(0)),
+            });
         }
     }
-    Ok(frames)
+    if let Some(b) = entered {
+        frames.ran(b);
+    }
+    Ok(frames.done)
+}
+
+/// The frames counted so far, and the one being counted.
+#[derive(Default)]
+struct Frames {
+    /// Inside a measured window (between `mark_on` and `mark_off`).
+    on: bool,
+    /// The helper instructions of the frame being counted.
+    acc: u64,
+    done: Vec<u64>,
+}
+
+impl Frames {
+    /// A marker, or a helper block of `n` instructions, has run.
+    fn ran(&mut self, b: Result<Marker, u64>) {
+        match b {
+            Ok(Marker::On) => self.on = true,
+            Ok(Marker::Off) => self.on = false,
+            Ok(Marker::Frame) => self.done.push(std::mem::take(&mut self.acc)),
+            Ok(Marker::Discard) => self.acc = 0,
+            Err(n) if self.on => self.acc += n,
+            Err(_) => {}
+        }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -232,12 +321,9 @@ enum Marker {
 mod tests {
     use super::*;
 
-    /// A helper block translated whole (3 instructions) and, at the same address,
-    /// short (1 instruction, a smaller budget in `cflags`): each run counts its
-    /// own block's size.
-    #[test]
-    fn sizes_belong_to_the_translated_block_not_its_address() {
-        let log = "\
+    /// The start of each test log: `mark_on` runs, then a helper block of three
+    /// instructions (at 0x200) is translated and runs.
+    const START: &str = "\
 ----------------
 IN: mark_on
 0x00000100:  4770       bx       lr
@@ -250,6 +336,20 @@ IN: __aeabi_lmul
 0x00000204:  bd10       pop      {r4, pc}
 
 Trace 0: 0x2 [00000000/00000200/00000110/ff020200] __aeabi_lmul
+";
+
+    /// The markers of the test logs: `mark_on` at 0x100, `mark_frame` at 0x300.
+    fn markers() -> HashMap<u32, Marker> {
+        HashMap::from([(0x100, Marker::On), (0x300, Marker::Frame)])
+    }
+
+    /// A helper block translated whole (3 instructions) and, at the same address,
+    /// short (1 instruction, a smaller budget in `cflags`): each run counts its
+    /// own block's size.
+    #[test]
+    fn sizes_belong_to_the_translated_block_not_its_address() {
+        let log = START.to_string()
+            + "\
 ----------------
 IN: __aeabi_lmul
 0x00000200:  b510       push     {r4, lr}
@@ -262,7 +362,29 @@ IN: mark_frame
 
 Trace 0: 0x4 [00000000/00000300/00000110/ff020200] mark_frame
 ";
-        let marker = HashMap::from([(0x100, Marker::On), (0x300, Marker::Frame)]);
-        assert_eq!(count(log.as_bytes(), &marker), Ok(vec![3 + 1 + 3]));
+        assert_eq!(count(log.as_bytes(), &markers()), Ok(vec![3 + 1 + 3]));
+    }
+
+    /// A block QEMU left before its first instruction (`Stopped execution`) is
+    /// counted when it is traced again and runs, not twice; a marker likewise.
+    /// Two frames in a row with no helper between are two frames.
+    #[test]
+    fn a_block_stopped_before_it_ran_is_counted_once() {
+        let log = START.to_string()
+            + "\
+Stopped execution of TB chain before 0x2 [00000200] __aeabi_lmul
+Trace 0: 0x2 [00000000/00000200/00000110/ff020200] __aeabi_lmul
+----------------
+IN: mark_frame
+0x00000300:  4770       bx       lr
+
+Trace 0: 0x4 [00000000/00000300/00000110/ff020200] mark_frame
+Stopped execution of TB chain before 0x4 [00000300] mark_frame
+Trace 0: 0x4 [00000000/00000300/00000110/ff020200] mark_frame
+Trace 0: 0x4 [00000000/00000300/00000110/ff020200] mark_frame
+Trace 0: 0x2 [00000000/00000200/00000110/ff020200] __aeabi_lmul
+Stopped execution of TB chain before 0x2 [00000200] __aeabi_lmul
+";
+        assert_eq!(count(log.as_bytes(), &markers()), Ok(vec![3, 0]));
     }
 }

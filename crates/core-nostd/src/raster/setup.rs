@@ -608,10 +608,10 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
 /// subpixels: the change of an attribute from the top vertex to a pixel centre
 /// (the anchor's, or that of pixel (0, 0): the two differ by whole steps `gx`,
 /// `gy` times 16, which the floor passes through unchanged, so both are the
-/// same lattice). The
-/// exact sum (|g| < 2³¹: products below 2⁴⁸) on the host and ARMv7-M, where a
-/// 32×32→64 product is one instruction; on ARMv6-M ([`origin_offset_split`]) from
-/// 32-bit products modulo 2³². Both give the same bits (tested).
+/// same lattice). The exact sum (|g| < 2³¹: products below 2⁴⁸) on the host and
+/// ARMv7-M, where a 32×32→64 product is one instruction; on ARMv6-M
+/// ([`origin_offset_split`]) from 32-bit products modulo 2³². Both give the same
+/// bits (tested).
 #[inline(always)]
 fn origin_offset(gx: i32, gy: i32, ox: i32, oy: i32) -> i32 {
     debug_assert!(ox.unsigned_abs() < 1 << 17 && oy.unsigned_abs() < 1 << 17);
