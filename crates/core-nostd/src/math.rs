@@ -419,6 +419,33 @@ fn recip_q61_split(m: u32) -> u32 {
     clamp(r as i64 + step as i64)
 }
 
+/// `2³¹ / m` for `m` in [2¹⁵, 2¹⁶), to 16 bits: in [2¹⁵, 2¹⁶ − 1], within 2⁻¹⁵ of
+/// the exact quotient relatively. The [`recip_q61`] table's seed (within 2⁻⁹) and
+/// one Newton step `r ← r + r·(2³¹ − m·r)/2³¹` in 32-bit products: `m·r` is within
+/// 2⁻⁹ of 2³¹, so the residual `e` lies in (−2²³, 2²³) and is exact modulo 2³²;
+/// `r·(e >> 8)` is below 2¹⁶·2¹⁵. The step leaves a relative error below 2⁻¹⁷ plus
+/// the truncations (under two units), and the result is clamped below 2¹⁶ so that
+/// it times a 15-bit value fits `i32`. The same instructions on every core (three
+/// `MULS` on ARMv6-M, no division): the triangle setup's reciprocal of a small
+/// determinant.
+///
+/// ```
+/// use fixshade::math::recip_q31_16;
+/// assert_eq!(recip_q31_16(1 << 15), (1 << 16) - 1);
+/// let m = 3 << 14; // 1.5·2^15
+/// assert!(recip_q31_16(m).abs_diff((1u32 << 31) / m) <= 2);
+/// ```
+#[inline(always)]
+pub fn recip_q31_16(m: u32) -> u32 {
+    debug_assert!((1 << 15..1 << 16).contains(&m));
+    // m >> 7 is in [256, 512): its low eight bits index the table; the seed is
+    // 2^24/(m/2^7) = 2^31/m to within 2^-9.
+    let r = RECIP_SEED[((m >> 7) & 0xFF) as usize] as u32;
+    let e = (1u32 << 31).wrapping_sub(m.wrapping_mul(r)) as i32;
+    let next = r as i32 + (((r as i32) * (e >> 8) + (1 << 22)) >> 23);
+    (next as u32).min(0xFFFF)
+}
+
 /// Knots of [`recip_seed`]: `RECIP_KNOTS[j] = ⌊2²⁴/(256 + j) + ½⌋ − 2¹⁵` for
 /// j = 0..=256, the reciprocal at the ends of the 256 buckets of [2³⁰, 2³¹) (514
 /// bytes of flash; the offset keeps 2¹⁶ at j = 0 within `u16`).
@@ -2078,6 +2105,24 @@ mod tests {
         for _ in 0..1_000_000 {
             check((xorshift(&mut seed) as u32 >> 1) | (1 << 30));
         }
+    }
+
+    /// The 16-bit reciprocal over its whole range: within 2⁻¹⁵ of 2³¹/m
+    /// relatively (the bound the triangle setup's small path takes), below 2¹⁶.
+    #[test]
+    fn recip_q31_16_is_within_its_bound_everywhere() {
+        let mut worst = 0f64;
+        for m in 1u32 << 15..1 << 16 {
+            let want = (1u64 << 31) as f64 / m as f64;
+            let got = recip_q31_16(m);
+            assert!(got < 1 << 16, "m {m}: {got}");
+            let rel = (got as f64 - want).abs() / want;
+            assert!(rel < 1.0 / 32768.0, "m {m}: {got} vs {want}");
+            worst = worst.max(rel);
+        }
+        // The bound is not loose by orders of magnitude: the clamp at m = 2^15
+        // alone costs 2^-16.
+        assert!(worst > 1.0 / 131072.0, "{worst}");
     }
 
     #[test]

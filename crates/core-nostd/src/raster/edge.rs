@@ -157,6 +157,22 @@ impl EdgeStepper {
     }
 }
 
+/// Vertex deltas below this many subpixels (128 pixels) make a small triangle
+/// (the triangle setup's 32-bit path).
+pub(crate) const SMALL: i32 = 1 << 11;
+
+/// Whether every vertex of `xy` lies within [`SMALL`] subpixels of the first one,
+/// in both coordinates (then any two are within 2¹² of each other).
+#[inline(always)]
+pub(crate) fn is_small([t, m, b]: [(i32, i32); 3]) -> bool {
+    // d + 2^11 is in [0, 2^12) exactly for d in [−2^11, 2^11) (|d| < 2^17 in the
+    // guard band: no overflow); any other d sets a bit at 2^12 or above (or the
+    // sign).
+    let h = SMALL;
+    let spread = (m.0 - t.0 + h) | (m.1 - t.1 + h) | (b.0 - t.0 + h) | (b.1 - t.1 + h);
+    (spread as u32) < 2 * h as u32
+}
+
 /// The first pixel row whose centre is at or below `y` (Q12.4): `⌈(y − 8) / 16⌉`.
 ///
 /// ```
@@ -222,6 +238,18 @@ mod tests {
                 e.step();
             }
         }
+    }
+
+    #[test]
+    fn is_small_takes_deltas_within_2_11() {
+        assert!(!is_small([(0, 0), (SMALL, 0), (0, 5)]));
+        assert!(!is_small([(0, 0), (3, -SMALL - 1), (0, 5)]));
+        assert!(is_small([(0, 0), (SMALL - 1, -SMALL), (0, 5)]));
+        assert!(is_small([
+            (100, 100),
+            (100 - SMALL, 100 + SMALL - 1),
+            (99, 101)
+        ]));
     }
 
     #[test]

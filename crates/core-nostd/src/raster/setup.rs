@@ -7,10 +7,15 @@
 //! `Gx = 16·(Δa1·dy2 − Δa2·dy1) / det` along a row and `Gy = 16·(Δa2·dx1 − Δa1·dx2) / det`
 //! down a column: the seed's `dI/dx`, the same on every scanline.
 //!
-//! Two ways compute the increments; [`setup`] takes the first where its error bound
-//! holds and the second everywhere else, so every triangle gets the bound below:
+//! Three ways compute the increments; [`setup`] takes the first whose error bound
+//! holds, so every triangle gets the bound below:
 //!
-//! - **32-bit** (`setup_fast`, every ordinary triangle): `|det|` cut to a 31-bit
+//! - **Small** (`small_increments`, every triangle within 128 pixels of its top
+//!   vertex whose colours and depth change by less than 128 and 1024 steps across
+//!   it): a 16-bit table-and-Newton reciprocal of the determinant
+//!   ([`crate::math::recip_q31_16`]) and 32-bit products (`MULS` on ARMv6-M); extra
+//!   error below 2¹¹ units (colours) and 2¹⁴ (depth), as the next path.
+//! - **32-bit** (`setup_fast`, every other ordinary triangle): `|det|` cut to a 31-bit
 //!   mantissa, one table-and-Newton reciprocal ([`crate::math::recip_q61`], no
 //!   division), the four barycentric basis values `±16·d/det` from it, and each
 //!   increment from two 32×32-bit products ([`crate::math::mul_wide`]). Its extra
@@ -34,11 +39,11 @@
 //! check). Depth: below 2¹⁴ + 4200 units, 0.32 of a u16 step, so the stored u16 is
 //! within 1 of the exact one.
 
-use super::edge::first_row;
+use super::edge::{first_row, is_small};
 use super::vertex::ScreenVertex;
 use crate::arrays;
 use crate::divide::{wide_recip, Divide, Exact};
-use crate::math::{leading_zeros, mul_i64_wide, mul_wide, recip_q61};
+use crate::math::{leading_zeros, mul_i64_wide, mul_wide, recip_q31_16, recip_q61};
 
 /// Number of interpolated attributes: three colour channels and depth.
 pub const ATTRS: usize = 4;
@@ -507,6 +512,11 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     let order = order3(v);
     let [i0, i1, i2] = order;
     let (t, m, b) = (v[i0], v[i1], v[i2]);
+    match small_increments([t, m, b]) {
+        Small::Zero => return None,
+        Small::Set { neg, gx, gy } => return Some(L::build([t, m, b], neg, gx, gy)),
+        Small::Other => {}
+    }
     // The exact path, for what the fast one does not take.
     let exact = || setup_with_det_div::<Exact>([*t, *m, *b]).map(|(s, _)| L::exact(s));
     // Colour channels outside [0, 2^30) (never from the vertex stage) take the exact
@@ -602,6 +612,206 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     (gx[3], gy[3]) = increments(z1, z2, &bb, &RoundShift::new(sh - 2));
     // y points down: the middle vertex is left of top→bottom when det < 0.
     Some(L::build([t, m, b], neg, gx, gy))
+}
+
+/// What [`small_increments`] made of a triangle.
+enum Small {
+    /// Zero area.
+    Zero,
+    /// The increments (and whether the middle vertex is left of the long edge).
+    Set {
+        neg: bool,
+        gx: [i32; ATTRS],
+        gy: [i32; ATTRS],
+    },
+    /// Not a triangle for the small path: the other paths decide.
+    Other,
+}
+
+/// The increments of a small triangle in 32-bit arithmetic (`MULS` alone on
+/// ARMv6-M, where the wide path's 64-bit products are library-class sequences):
+/// the path of every triangle whose vertices lie within 128 pixels of the top
+/// one (`d` = `[dx₁, dy₁, dx₂, dy₂]` from the top vertex, in [−2¹¹, 2¹¹)) and whose
+/// attributes change by less than 2²³ units (colours: 128 steps of an 8-bit
+/// channel, any 5- or 6-bit swing) and 2²⁶ (depth: 1024 steps of 16 bits) across
+/// it; [`Small::Other`] for the rest.
+///
+/// - `|det|` ≤ 2²³ (`|det| < 2^k`), normalised to a 16-bit mantissa `m` (exact up
+///   to 2¹⁶, else truncated: relative error below 2⁻¹⁵), gives `r = 2³¹/m`
+///   ([`recip_q31_16`], within 2⁻¹⁵), so `r ≈ 2^(15 + k)/|det|`.
+/// - The basis numerators `n = ±16·(dy₂, −dy₁, −dx₂, dx₁)` (the sign of `det`,
+///   |n| ≤ 2¹⁵) times `r` are `P = n·2^(15 + k)/det` (|P| < 2³¹, exact products),
+///   up to the common relative error `ρ < 2⁻¹⁴` of `r`.
+/// - An attribute's deltas `d₁`, `d₂` from the top vertex are taken as
+///   `δ = round(d/2^e)`, `e` such that δ lies in [−2¹⁴, 2¹⁴] (the channels share
+///   one `e`, the depth has its own): `X = round((δ₁·P₀ + δ₂·P₁)/2¹⁶)`
+///   ([`SplitBasis::x`]: from 16-bit halves of `P` on ARMv6-M, the same bits) is
+///   `Gx·2^sh` with `sh = k − 1 − e`, and `Gx = round(X/2^sh)` (or `X·2^−sh`,
+///   exactly, for `sh < 1`, if it fits `i32`); `Gy` alike.
+///
+/// Error of the lattice against the exact plane at a pixel centre inside the
+/// triangle, `E` < 2⁹ pixel steps from the top vertex, for an attribute whose
+/// deltas are below 2^b in magnitude: the deltas' rounding moves the middle and
+/// bottom values by at most 2^(e − 1), which moves every value inside the
+/// triangle by no more (barycentric weights); `ρ` scales every value's change from the
+/// top vertex, below 2^b inside: 2^(b − 14); the rounding of `X` (½) and of the
+/// increment (½) cost `0.75·E` for `sh ≥ 1` (below 384 units), `2^(−sh − 1)` a
+/// step for `sh < 1`, taken only within 2⁹ (colours) and 2¹² (depth) over the
+/// triangle's bounding box; the anchor one unit. Colours (b ≤ 23): below 3·2⁹ + 1
+/// < 2¹¹ units, the wide path's bound; depth (b ≤ 26): below 3·2¹² + 1 < 2¹⁴ (a
+/// quarter of a u16 step).
+#[cfg_attr(not(feature = "small-flash"), inline(always))]
+#[cfg_attr(feature = "small-flash", inline(never))]
+fn small_increments([t, m, b]: [&ScreenVertex; 3]) -> Small {
+    if !is_small([(t.x, t.y), (m.x, m.y), (b.x, b.y)]) {
+        return Small::Other;
+    }
+    // Depth first (the cheaper test, and the one larger triangles fail): the
+    // magnitude of the u32 difference; below 2^26 the i32 difference is exact.
+    let zor = m.z.abs_diff(t.z) | b.z.abs_diff(t.z);
+    if zor >> 26 != 0 {
+        return Small::Other;
+    }
+    let (dx1, dy1) = (m.x - t.x, m.y - t.y);
+    let (dx2, dy2) = (b.x - t.x, b.y - t.y);
+    // The colour deltas, exact when every channel is in [0, 2^30) (always from
+    // the vertex stage; else the other paths).
+    let (mut cs, mut dor) = (0u32, 0u32);
+    let (mut d1, mut d2) = ([0i32; 3], [0i32; 3]);
+    for k in 0..3 {
+        let (a, p, q) = (t.c[k], m.c[k], b.c[k]);
+        cs |= (a | p | q) as u32;
+        (d1[k], d2[k]) = (p.wrapping_sub(a), q.wrapping_sub(a));
+        dor |= d1[k].unsigned_abs() | d2[k].unsigned_abs();
+    }
+    if cs >> 30 != 0 || dor >> 23 != 0 {
+        return Small::Other;
+    }
+    // |d| ≤ 2^11: products at most 2^22, |det| ≤ 2^23.
+    let det = dx1 * dy2 - dx2 * dy1;
+    if det == 0 {
+        return Small::Zero;
+    }
+    let neg = det < 0;
+    let mag = det.unsigned_abs();
+    let bd = 32 - leading_zeros(mag) as i32; // 1..=24
+    let mant = if bd > 16 {
+        mag >> (bd - 16)
+    } else {
+        mag << (16 - bd)
+    };
+    // r ≈ 2^31/mant = 2^(15 + bd)/|det|, in [2^15, 2^16); the sign of det on it.
+    let r = recip_q31_16(mant) as i32;
+    let r = if neg { -r } else { r };
+    // |16·d| ≤ 2^15 and |r| < 2^16: each product below 2^31 in magnitude.
+    let p = [16 * dy2 * r, -16 * dy1 * r, -16 * dx2 * r, 16 * dx1 * r];
+    // e = max(bits − 14, 0): δ in [−2^14, 2^14]. The shift bd − 1 − e is at most 23.
+    let e = |or: u32| (18 - leading_zeros(or) as i32).max(0);
+    let (ec, ez) = (e(dor), e(zor));
+    let (shc, shz) = (bd - 1 - ec, bd - 1 - ez);
+    // A shift below 1 (a tiny or thin triangle whose attribute changes fast): X is
+    // shifted left, exactly, and its rounding (½) costs 2^(−sh − 1) a step, below
+    // 2^(be − sh − 1) over the triangle (E < 2^be): taken within 2^9 (colours) and
+    // 2^12 (depth).
+    if shc < 1 || shz < 1 {
+        let (xl, xr) = (t.x.min(m.x).min(b.x), t.x.max(m.x).max(b.x));
+        // E ≤ the bounding box's width and height in pixels, plus 2: below 2^9.
+        let be = 32 - leading_zeros((((xr - xl) + (b.y - t.y)) >> 4) as u32 + 2) as i32;
+        if (shc < 1 && be - shc > 10) || (shz < 1 && be - shz > 13) {
+            return Small::Other;
+        }
+    }
+    let (z1, z2) = (
+        (m.z as i32).wrapping_sub(t.z as i32),
+        (b.z as i32).wrapping_sub(t.z as i32),
+    );
+    let split = SplitBasis::new(p);
+    // `None` when a left shift would not fit i32.
+    let inc = |d1: i32, d2: i32, e: i32, sh: i32| {
+        // Rounded to nearest: δ in [−2^14, 2^14].
+        let half_e = (1 << e) >> 1;
+        let (a, c) = ((d1 + half_e) >> e, (d2 + half_e) >> e);
+        let g = |h: usize, l: usize| {
+            let x = split.x(a, c, h, l);
+            if sh >= 1 {
+                Some((x + (1 << (sh - 1))) >> sh)
+            } else {
+                // −sh ≤ 13 − be ≤ 12 (the check above): a valid shift.
+                let g = x << -sh;
+                (g >> -sh == x).then_some(g)
+            }
+        };
+        Some((g(0, 1)?, g(2, 3)?))
+    };
+    let mut gx = [0i32; ATTRS];
+    let mut gy = [0i32; ATTRS];
+    for k in 0..3 {
+        let Some(g) = inc(d1[k], d2[k], ec, shc) else {
+            return Small::Other;
+        };
+        (gx[k], gy[k]) = g;
+    }
+    let Some(g) = inc(z1, z2, ez, shz) else {
+        return Small::Other;
+    };
+    (gx[3], gy[3]) = g;
+    // y points down: the middle vertex is left of top→bottom when det < 0.
+    Small::Set { neg, gx, gy }
+}
+
+/// The small path's basis `P` (|P| < 2³¹) as its products take it: whole on the
+/// cores with a 32×32→64-bit multiply, in halves on ARMv6-M.
+#[derive(Copy, Clone)]
+struct SplitBasis {
+    #[cfg(not(fixshade_v6m))]
+    p: [i32; 4],
+    /// High halves (signed) and low halves (in [0, 2¹⁶)): `P = Pₕ·2¹⁶ + Pₗ`.
+    #[cfg(fixshade_v6m)]
+    ph: [i32; 4],
+    #[cfg(fixshade_v6m)]
+    pl: [i32; 4],
+}
+
+impl SplitBasis {
+    #[inline(always)]
+    fn new(p: [i32; 4]) -> SplitBasis {
+        #[cfg(not(fixshade_v6m))]
+        {
+            SplitBasis { p }
+        }
+        #[cfg(fixshade_v6m)]
+        {
+            SplitBasis {
+                ph: p.map(|v| v >> 16),
+                pl: p.map(|v| v & 0xFFFF),
+            }
+        }
+    }
+
+    /// `X = ⌊(a·P_h + c·P_l + 2¹⁵ − 1)/2¹⁶⌋` (rounded, halves down) for `a`, `c`
+    /// in [−2¹⁴, 2¹⁴] (the sum below 2⁴⁶, X below 2³⁰ + 2¹⁵ in magnitude).
+    #[inline(always)]
+    fn x(&self, a: i32, c: i32, h: usize, l: usize) -> i32 {
+        #[cfg(not(fixshade_v6m))]
+        {
+            ((mul_wide(a, self.p[h]) + mul_wide(c, self.p[l]) + 0x7FFF) >> 16) as i32
+        }
+        #[cfg(fixshade_v6m)]
+        {
+            split_x(a, c, [self.ph[h], self.ph[l]], [self.pl[h], self.pl[l]])
+        }
+    }
+}
+
+/// [`SplitBasis::x`] from 32-bit products: with `P = Pₕ·2¹⁶ + Pₗ`, the sum is
+/// `(a·Pₕ₀ + c·Pₕ₁)·2¹⁶ + L`, `L = a·Pₗ₀ + c·Pₗ₁`, so `X = a·Pₕ₀ + c·Pₕ₁ + ⌊(L +
+/// 2¹⁵ − 1)/2¹⁶⌋` exactly: with `a`, `c` in [−2¹⁴, 2¹⁴], |a·Pₕ| ≤ 2²⁹ and |a·Pₗ| ≤
+/// 2³⁰ − 2¹⁴, so the high sum is at most 2³⁰ and `L + 2¹⁵ − 1` at most 2³¹ − 1
+/// (the bias one short of a half is what keeps it inside `i32`).
+#[cfg(any(test, fixshade_v6m))]
+#[inline(always)]
+fn split_x(a: i32, c: i32, ph: [i32; 2], pl: [i32; 2]) -> i32 {
+    a * ph[0] + c * ph[1] + ((a * pl[0] + c * pl[1] + 0x7FFF) >> 16)
 }
 
 /// `⌊(gx·ox + gy·oy + 8)/16⌋` modulo 2³² for offsets |`ox`|, |`oy`| < 2¹⁷
@@ -745,6 +955,129 @@ pub(crate) fn setup_with_det_div<D: Divide>(v: [ScreenVertex; 3]) -> Option<(Set
 mod tests {
     use super::*;
     use crate::raster::GUARD;
+
+    /// The split form of the small path's products equals the 64-bit one at the
+    /// extremes and on a million random arguments.
+    #[test]
+    fn small_path_split_products_equal_wide() {
+        let wide = |a: i32, c: i32, p0: i32, p1: i32| {
+            ((a as i64 * p0 as i64 + c as i64 * p1 as i64 + 0x7FFF) >> 16) as i32
+        };
+        let split = |a: i32, c: i32, p0: i32, p1: i32| {
+            split_x(a, c, [p0 >> 16, p1 >> 16], [p0 & 0xFFFF, p1 & 0xFFFF])
+        };
+        let lim = (1 << 15) * ((1 << 16) - 1);
+        let ds = [0, 1, -1, 1 << 14, -(1 << 14), 12345, -777];
+        let ps = [0, 1, -1, lim, -lim, 0xFFFF, -0x10000, 0x8000, 987_654_321];
+        for &a in &ds {
+            for &c in &ds {
+                for &p0 in &ps {
+                    for &p1 in &ps {
+                        assert_eq!(split(a, c, p0, p1), wide(a, c, p0, p1), "{a} {c} {p0} {p1}");
+                    }
+                }
+            }
+        }
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..1_000_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let d = |sh: u32| ((seed >> sh) as i32 % (1 << 14)) >> ((seed >> (sh + 40)) & 15);
+            // In (−2^14, 2^14), inside the deltas' range [−2^14, 2^14].
+            let p = |sh: u32| ((seed >> sh) as i32 % lim) >> ((seed >> (sh + 3)) & 31);
+            let (a, c, p0, p1) = (d(0), d(14), p(28), p(33));
+            assert_eq!(split(a, c, p0, p1), wide(a, c, p0, p1), "{a} {c} {p0} {p1}");
+        }
+    }
+
+    /// The small path's lattice against the exact plane at every pixel centre
+    /// inside random small triangles (ordinary, thin and slivers, colours over the
+    /// 8-bit range, depths over the whole range): below 2¹¹ units (colours) and
+    /// 2¹⁴ (depth), the bounds its docs derive; most ordinary triangles take it.
+    #[test]
+    fn small_path_stays_within_its_bound() {
+        extern crate std;
+        const DEPTH_MAX: u64 = crate::geometry::DEPTH_SCALE as u64 + 1;
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let (mut taken, mut tried, mut worst_c, mut worst_z) = (0, 0, 0f64, 0f64);
+        for i in 0..40_000 {
+            // Sizes from a pixel to 127 pixels; every fourth a sliver.
+            let size = (16 + next(2016) as i32) >> (next(8) as i32);
+            let (x0, y0) = (next(4000) as i32 - 2000, next(4000) as i32 - 2000);
+            let mut v = [(x0, y0); 3];
+            for p in v.iter_mut().skip(1) {
+                *p = (
+                    x0 + next(2 * size as u64 + 1) as i32 - size,
+                    y0 + next(2 * size as u64 + 1) as i32 - size,
+                );
+            }
+            if i % 4 == 0 {
+                // Nearly collinear: the third vertex close to the first edge.
+                let (dx, dy) = (v[1].0 - x0, v[1].1 - y0);
+                let f = next(1000) as i32;
+                v[2] = (
+                    x0 + dx * f / 1000 + next(3) as i32 - 1,
+                    y0 + dy * f / 1000 + next(3) as i32 - 1,
+                );
+            }
+            // Values around a base, spread from 2^8 units to the whole range.
+            let (zs, cs) = (1u64 << (8 + next(25)), 1u64 << (8 + next(17)));
+            let (z0, c0) = (next(DEPTH_MAX), [0; 3].map(|_| next(256 << 16)));
+            let sv = v.map(|(x, y)| ScreenVertex {
+                x,
+                y,
+                z: (z0 + next(zs)).min(DEPTH_MAX - 1) as u32,
+                c: c0.map(|c| (c + next(cs)).min((256 << 16) - 1) as i32),
+            });
+            let [i0, i1, i2] = order3([&sv[0], &sv[1], &sv[2]]);
+            let (t, m, b) = (&sv[i0], &sv[i1], &sv[i2]);
+            let d = [m.x - t.x, m.y - t.y, b.x - t.x, b.y - t.y];
+            tried += 1;
+            let Small::Set { neg, gx, gy } = small_increments([t, m, b]) else {
+                continue;
+            };
+            taken += 1;
+            let s = <Setup as LatticeOut>::build([t, m, b], neg, gx, gy);
+            let det = (d[0] as i64 * d[3] as i64 - d[2] as i64 * d[1] as i64) as f64;
+            let (xl, xr) = (t.x.min(m.x).min(b.x), t.x.max(m.x).max(b.x));
+            for py in first_row(t.y)..first_row(b.y) {
+                for px in first_row(xl)..first_row(xr) + 1 {
+                    let (u, w) = ((16 * px + 8 - t.x) as f64, (16 * py + 8 - t.y) as f64);
+                    let l1 = (u * d[3] as f64 - w * d[2] as f64) / det;
+                    let l2 = (w * d[0] as f64 - u * d[1] as f64) / det;
+                    if l1 < 0.0 || l2 < 0.0 || l1 + l2 > 1.0 {
+                        continue;
+                    }
+                    let got = s.at(px, py);
+                    let at = |a: [f64; 3]| a[0] + l1 * (a[1] - a[0]) + l2 * (a[2] - a[0]);
+                    for (k, g) in got.iter().take(3).enumerate() {
+                        let want = at([t.c[k], m.c[k], b.c[k]].map(f64::from));
+                        let e = ((g - ROUND_BIAS) as f64 - want).abs();
+                        worst_c = worst_c.max(e);
+                        assert!(e < 2048.0, "colour {k}: {e} {sv:?}");
+                    }
+                    let want = at([t.z, m.z, b.z].map(f64::from));
+                    // Modulo 2^32, as the lattice is (a value a hair below 0).
+                    let z = got[3].wrapping_sub(ROUND_BIAS) as u32 as f64;
+                    let e = (z - want).rem_euclid(4294967296.0);
+                    let e = e.min(4294967296.0 - e);
+                    worst_z = worst_z.max(e);
+                    assert!(e < 16384.0, "depth: {e} {sv:?}");
+                }
+            }
+        }
+        assert!(taken * 2 > tried, "{taken} of {tried}");
+        std::println!(
+            "small path: {taken} of {tried}; worst {worst_c} (colour), {worst_z} (depth)"
+        );
+    }
 
     /// The split origin offset against the exact 64-bit sum: the extreme
     /// gradients at the extreme and small offsets, and a million random ones.
