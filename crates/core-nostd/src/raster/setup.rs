@@ -577,8 +577,7 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     // S = 30 + bits − t: t ≤ 22 so S ≥ 9; bits ≤ 35 and t ≥ 4, so S ≤ 61.
     let sh = 30 + bits - sh_t;
     // The bound's inputs on bit lengths: E pixel steps, colour and depth deltas.
-    let (xl, xr) = (t.x.min(m.x).min(b.x), t.x.max(m.x).max(b.x));
-    let be = 32 - leading_zeros((((xr - xl) + (b.y - t.y)) >> 4) as u32 + 2);
+    let be = steps_bits([t, m, b]);
     let d1 = [m.c[0] - t.c[0], m.c[1] - t.c[1], m.c[2] - t.c[2]];
     let d2 = [b.c[0] - t.c[0], b.c[1] - t.c[1], b.c[2] - t.c[2]];
     let dor = d1
@@ -612,6 +611,15 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     (gx[3], gy[3]) = increments(z1, z2, &bb, &RoundShift::new(sh - 2));
     // y points down: the middle vertex is left of top→bottom when det < 0.
     Some(L::build([t, m, b], neg, gx, gy))
+}
+
+/// The bit length of `E`, the most pixel steps from the top vertex `t` to a pixel
+/// centre of the triangle (sorted by y): `E` is at most the bounding box's width
+/// and height in pixels, plus 2.
+#[inline(always)]
+fn steps_bits([t, m, b]: [&ScreenVertex; 3]) -> u32 {
+    let (xl, xr) = (t.x.min(m.x).min(b.x), t.x.max(m.x).max(b.x));
+    32 - leading_zeros((((xr - xl) + (b.y - t.y)) >> 4) as u32 + 2)
 }
 
 /// What [`small_increments`] made of a triangle.
@@ -714,9 +722,8 @@ fn small_increments([t, m, b]: [&ScreenVertex; 3]) -> Small {
     // 2^(be − sh − 1) over the triangle (E < 2^be): taken within 2^9 (colours) and
     // 2^12 (depth).
     if shc < 1 || shz < 1 {
-        let (xl, xr) = (t.x.min(m.x).min(b.x), t.x.max(m.x).max(b.x));
-        // E ≤ the bounding box's width and height in pixels, plus 2: below 2^9.
-        let be = 32 - leading_zeros((((xr - xl) + (b.y - t.y)) >> 4) as u32 + 2) as i32;
+        // Below 2^9 for a small triangle.
+        let be = steps_bits([t, m, b]) as i32;
         if (shc < 1 && be - shc > 10) || (shz < 1 && be - shz > 13) {
             return Small::Other;
         }
