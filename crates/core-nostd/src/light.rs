@@ -223,6 +223,29 @@ pub struct LightingSetup<S: Specular> {
     /// A local viewer for a specular term (false without one: `S::enabled()`).
     local_viewer: bool,
     spec: S::Params,
+    /// Directional lights only, every colour product in [0, 1) and the base in
+    /// [0, 16] (Q16.16): [`Self::shade`] sums in `i32` with 32-bit products
+    /// ([`Self::shade_unit`]).
+    unit: bool,
+}
+
+/// Adds `⌊c·f/2¹⁶⌋` to each sum of `acc` for the colour products `c` in [0, 2¹⁶)
+/// and a factor `f` in [0, 2³¹): [`mul_wide`]'s values, from one 32-bit multiply
+/// each for the usual factor, at most 2¹⁶ (a diffuse factor of unit vectors,
+/// which lie within 4 units of Q2.30, so `N·L` ≤ 2³⁰ + 14; a specular model up
+/// to 1), where `c·f` < 2³² as `u32`; a larger factor takes `mul_wide` (on
+/// ARMv6-M four 16×16-bit products each).
+#[inline(always)]
+fn add_colour_terms(acc: &mut [i32; 3], c: &[i32; 3], f: i32) {
+    if f <= 1 << 16 {
+        for (a, c) in acc.iter_mut().zip(c) {
+            *a += ((*c as u32).wrapping_mul(f as u32) >> 16) as i32;
+        }
+    } else {
+        for (a, c) in acc.iter_mut().zip(c) {
+            *a += (mul_wide(*c, f) >> 16) as i32;
+        }
+    }
 }
 
 fn mul_q16(a: Q16_16, b: Q16_16) -> i32 {
@@ -297,10 +320,17 @@ impl<S: Specular> LightingSetup<S> {
         let n = material
             .shininess
             .clamp(Q16_16::ONE, Q16_16::from_int(1000));
+        let below_one = |c: &[i32; 3]| c.iter().all(|v| (0..1 << 16).contains(v));
+        let unit = directional == out.len()
+            && base.iter().all(|b| (0..=1 << 20).contains(b))
+            && out
+                .iter()
+                .all(|l| below_one(&l.amb) && below_one(&l.dif) && below_one(&l.spec));
         LightingSetup {
             lights: out,
             directional,
             base,
+            unit,
             // Without a specular term the viewer is never needed.
             local_viewer: local_viewer && S::enabled(),
             spec: S::prepare(n),
@@ -337,7 +367,63 @@ impl<S: Specular> LightingSetup<S> {
         if !S::enabled() && self.directional >= self.lights.len() {
             return self.diffuse_directional(n);
         }
+        // Not in the smallest images (`small-flash`: the micro:bit's 256 KiB),
+        // which keep one copy: the same bits either way.
+        if !cfg!(feature = "small-flash") && self.unit {
+            return self.shade_unit(p, n);
+        }
         self.shade_any(p, n)
+    }
+
+    /// [`Self::shade_any`] for directional lights whose colour products lie in
+    /// [0, 1) and a base in [0, 16] (Q16.16): the same terms summed in `i32`, the
+    /// colour products through [`add_colour_terms`]. A factor is below 2²² (specular:
+    /// `s` ≤ 2³⁶; diffuse: `N·L` saturates at 2³¹, so `N·L >> 14` < 2¹⁷), so the
+    /// sum of the base and at most 8 lights' three terms (ambient below 2¹⁶,
+    /// diffuse below 2¹⁷, specular below 2²²) stays below 2²⁶.
+    #[inline(always)]
+    fn shade_unit(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        let mut acc = self.base.map(|b| b as i32);
+        let view = self.view(p);
+        for light in &self.lights {
+            let EyeKind::Directional { l, h } = light.kind else {
+                continue;
+            };
+            for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
+                *c += *amb;
+            }
+            let nl = dot_q30(n, l);
+            if nl <= 0 {
+                continue;
+            }
+            let f = nl >> 14;
+            add_colour_terms(&mut acc, &light.dif, f);
+            if !S::ENABLED || !light.has_spec {
+                continue;
+            }
+            let h = if self.local_viewer { half(l, view) } else { h };
+            let Some(h) = h else { continue };
+            let nh = dot_q30(n, h);
+            if nh <= 0 {
+                continue;
+            }
+            // s ≤ 2^36: f < 2^22.
+            let f = (S::eval_wide(&self.spec, nh.min(ONE_Q30)) >> 14) as i32;
+            add_colour_terms(&mut acc, &light.spec, f);
+        }
+        acc.map(|c| c.clamp(0, 1 << 16))
+    }
+
+    /// The unit vector towards the viewer at eye-space `p` for the half vector:
+    /// from `p` with a local viewer and a specular term, else +z.
+    #[inline(always)]
+    fn view(&self, p: [i32; 3]) -> [i32; 3] {
+        if S::ENABLED && self.local_viewer {
+            normalize_to_q30([-(p[0] as i64), -(p[1] as i64), -(p[2] as i64)])
+                .unwrap_or([0, 0, ONE_Q30])
+        } else {
+            [0, 0, ONE_Q30]
+        }
     }
 
     /// [`Self::shade`] for any lights and specular term.
@@ -345,12 +431,7 @@ impl<S: Specular> LightingSetup<S> {
         let mut acc = self.base;
         // The viewer direction enters the half vector only: without a specular term
         // it is never needed.
-        let view = if S::ENABLED && self.local_viewer {
-            normalize_to_q30([-(p[0] as i64), -(p[1] as i64), -(p[2] as i64)])
-                .unwrap_or([0, 0, ONE_Q30])
-        } else {
-            [0, 0, ONE_Q30]
-        };
+        let view = self.view(p);
         let (dirs, points) = self
             .lights
             .split_at(self.directional.min(self.lights.len()));
@@ -1319,6 +1400,122 @@ mod tests {
 
     fn q(v: i32, d: i32) -> Q16_16 {
         Q16_16::from_ratio(v, d)
+    }
+
+    /// Random directional lights and materials with colour products below 1: the
+    /// 32-bit sums ([`LightingSetup::shade_unit`]) give the `i64` sums' bits
+    /// ([`LightingSetup::shade_any`]) for every specular model (the
+    /// energy-conserving one reaches factors above 2¹⁶, as do normals longer than
+    /// 1), with and without a local viewer; a product of exactly 1 keeps the `i64`
+    /// sums.
+    #[test]
+    fn shade_unit_equals_shade_any() {
+        fn next(seed: &mut u64, m: u64) -> u64 {
+            *seed ^= *seed << 13;
+            *seed ^= *seed >> 7;
+            *seed ^= *seed << 17;
+            *seed % m
+        }
+        fn colour(seed: &mut u64, max: u64) -> [Q16_16; 3] {
+            let v = next(seed, max) as i32;
+            [v, (v * 3 + 7) % max as i32, (v * 5 + 11) % max as i32].map(Q16_16::from_bits)
+        }
+        fn check<S: Specular>(seed: &mut u64) -> usize {
+            let mut checked = 0;
+            for round in 0..24 {
+                let lights: heapless::Vec<Light, 3> = (0..1 + round % 3)
+                    .map(|_| {
+                        let d = [0; 3]
+                            .map(|_| Q16_16::from_bits(next(seed, 1 << 18) as i32 - (1 << 17)));
+                        let mut l =
+                            Light::directional(d, colour(seed, 1 << 16), colour(seed, 1 << 16));
+                        l.ambient = colour(seed, 1 << 13);
+                        l
+                    })
+                    .collect();
+                let mat = Material {
+                    emission: colour(seed, 1 << 15),
+                    ambient: colour(seed, 1 << 16),
+                    diffuse: colour(seed, 1 << 16),
+                    specular: colour(seed, 1 << 16),
+                    shininess: Q16_16::from_bits(next(seed, 200 << 16) as i32),
+                };
+                let setup = LightingSetup::<S>::new(
+                    &lights,
+                    &Mat4::IDENTITY,
+                    &mat,
+                    colour(seed, 1 << 15),
+                    round % 2 == 0,
+                );
+                assert!(setup.unit);
+                for _ in 0..400 {
+                    let v = [0; 3].map(|_| next(seed, 1 << 20) as i64 - (1 << 19));
+                    let Some(n) = normalize_to_q30(v) else {
+                        continue;
+                    };
+                    let p = [0; 3].map(|_| next(seed, 1 << 22) as i32 - (1 << 21));
+                    assert_eq!(setup.shade_unit(p, n), setup.shade_any(p, n), "{n:?} {p:?}");
+                    // A normal 1.5 long: diffuse factors above 2^16 as well.
+                    let long = n.map(|c| c + c / 2);
+                    assert_eq!(
+                        setup.shade_unit(p, long),
+                        setup.shade_any(p, long),
+                        "{long:?}"
+                    );
+                    checked += 1;
+                }
+            }
+            checked
+        }
+        let mut seed = 0x2545_F491_4F6C_DD1D;
+        assert!(check::<BlinnExact>(&mut seed) > 9000);
+        assert!(check::<crate::specular::CosQuadratic>(&mut seed) > 9000);
+        assert!(check::<crate::specular::CosQuadraticEnergy>(&mut seed) > 9000);
+        assert!(check::<crate::specular::Schlick>(&mut seed) > 9000);
+        let white = [Q16_16::ONE; 3];
+        let sun = Light::directional([Q16_16::ZERO, Q16_16::ZERO, Q16_16::ONE], white, white);
+        let mat = Material {
+            diffuse: white,
+            ..Material::default()
+        };
+        let setup = LightingSetup::<BlinnExact>::new(
+            &[sun],
+            &Mat4::IDENTITY,
+            &mat,
+            [Q16_16::ZERO; 3],
+            false,
+        );
+        assert!(!setup.unit);
+    }
+
+    /// The colour products give `mul_wide`'s bits: every colour at the ends of its
+    /// range and around the powers of two, against factors around 2¹⁶ (where the
+    /// two forms meet) and across [0, 2³¹).
+    #[test]
+    fn colour_terms_equal_wide() {
+        let mut cs: heapless::Vec<i32, 64> = heapless::Vec::new();
+        let mut fs: heapless::Vec<i32, 1024> = heapless::Vec::new();
+        cs.extend([0, 1, (1 << 16) - 1]);
+        fs.extend([0, 1, i32::MAX, (1 << 22) - 1]);
+        for k in 0..31 {
+            for d in [-1, 0, 1] {
+                if k < 16 {
+                    cs.push((1 << k) + d).unwrap();
+                }
+                fs.push((1i32 << k).saturating_add(d).max(0)).unwrap();
+            }
+        }
+        for d in -300..300 {
+            fs.push((1 << 16) + d).unwrap();
+        }
+        for &c in cs.iter().filter(|c| (0..1 << 16).contains(*c)) {
+            for &f in &fs {
+                let mut acc = [7, 0, -3];
+                add_colour_terms(&mut acc, &[c, c, c], f);
+                let t = (mul_wide(c, f) >> 16) as i32;
+                assert_eq!(acc, [7 + t, t, t - 3], "{c} {f}");
+            }
+        }
     }
 
     #[test]
