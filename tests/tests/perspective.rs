@@ -63,6 +63,12 @@ fn small_triangles_err_little_without_it() {
     // when the setup's small path brought the affine figure nearer the reference:
     // a better affine render must not fail this test). The per-pixel path is held
     // to its measured figure, and the correction must still beat screen space.
+    // The rise is the transform's integer entries (`VertexTransform`): their
+    // rounding moves this plane's screen positions by up to 0.1 subpixel at the
+    // far end, and two rows of vertices that lie 0.02 subpixel from a rounding
+    // boundary (y = 1944.52 and 1969.50 subpixels) snap to the other side; 17
+    // pixels of rows 114–124 then land in the next triangle, a step off. With the
+    // exact positions the per-pixel path errs on the old 3 pixels (1.2e-6).
     assert!(affine <= 1e-4, "{affine}");
     assert!(pixel <= 7.7e-6, "{pixel}");
     assert!(2.0 * pixel < affine, "{pixel} {affine}");

@@ -225,26 +225,82 @@ pub struct LightingSetup<S: Specular> {
     spec: S::Params,
     /// Directional lights only, every colour product in [0, 1) and the base in
     /// [0, 16] (Q16.16): [`Self::shade`] sums in `i32` with 32-bit products
-    /// ([`Self::shade_unit`]).
+    /// ([`Self::shade_directional`]).
     unit: bool,
 }
 
-/// Adds `⌊c·f/2¹⁶⌋` to each sum of `acc` for the colour products `c` in [0, 2¹⁶)
-/// and a factor `f` in [0, 2³¹): [`mul_wide`]'s values, from one 32-bit multiply
-/// each for the usual factor, at most 2¹⁶ (a diffuse factor of unit vectors,
-/// which lie within 4 units of Q2.30, so `N·L` ≤ 2³⁰ + 14; a specular model up
-/// to 1), where `c·f` < 2³² as `u32`; a larger factor takes `mul_wide` (on
-/// ARMv6-M four 16×16-bit products each).
-#[inline(always)]
-fn add_colour_terms(acc: &mut [i32; 3], c: &[i32; 3], f: i32) {
-    if f <= 1 << 16 {
-        for (a, c) in acc.iter_mut().zip(c) {
-            *a += ((*c as u32).wrapping_mul(f as u32) >> 16) as i32;
+/// The three sums of a lit colour (Q16.16 before the clamp): `i32` where the
+/// setup's bounds allow ([`LightingSetup::unit`]: below 2²⁶), `i64` otherwise.
+/// The directional-light loop ([`LightingSetup::shade_directional`]) is written
+/// once over both.
+trait Sums: Copy {
+    /// The sums of the base (emission + global ambient, Q16.16).
+    fn base(b: &[i64; 3]) -> Self;
+    /// Adds the ambient parts `c` (Q16.16).
+    fn add(&mut self, c: &[i32; 3]);
+    /// Adds `⌊c·f/2¹⁶⌋` to each sum for the colour products `c` and a factor `f`
+    /// in [0, 2³¹).
+    fn add_terms(&mut self, c: &[i32; 3], f: i32);
+    /// The channels clamped to [0, 1].
+    fn clamped(self) -> [i32; 3];
+}
+
+impl Sums for [i64; 3] {
+    #[inline(always)]
+    fn base(b: &[i64; 3]) -> Self {
+        *b
+    }
+    #[inline(always)]
+    fn add(&mut self, c: &[i32; 3]) {
+        for (a, c) in self.iter_mut().zip(c) {
+            *a += *c as i64;
         }
-    } else {
-        for (a, c) in acc.iter_mut().zip(c) {
-            *a += (mul_wide(*c, f) >> 16) as i32;
+    }
+    /// `|c|` < 2³¹ and `f` < 2³¹: `mul_wide` below 2⁶², each term below 2⁴⁶.
+    #[inline(always)]
+    fn add_terms(&mut self, c: &[i32; 3], f: i32) {
+        for (a, c) in self.iter_mut().zip(c) {
+            *a += mul_wide(*c, f) >> 16;
         }
+    }
+    #[inline(always)]
+    fn clamped(self) -> [i32; 3] {
+        self.map(|c| c.clamp(0, 1 << 16) as i32)
+    }
+}
+
+impl Sums for [i32; 3] {
+    /// A base in [0, 2²⁰] (the `unit` condition).
+    #[inline(always)]
+    fn base(b: &[i64; 3]) -> Self {
+        b.map(|b| b as i32)
+    }
+    #[inline(always)]
+    fn add(&mut self, c: &[i32; 3]) {
+        for (a, c) in self.iter_mut().zip(c) {
+            *a += *c;
+        }
+    }
+    /// For the colour products `c` in [0, 2¹⁶): [`mul_wide`]'s values, from one
+    /// 32-bit multiply each for the usual factor, at most 2¹⁶ (a diffuse factor of
+    /// unit vectors, which lie within 4 units of Q2.30, so `N·L` ≤ 2³⁰ + 14; a
+    /// specular model up to 1), where `c·f` < 2³² as `u32`; a larger factor takes
+    /// `mul_wide` (on ARMv6-M four 16×16-bit products each).
+    #[inline(always)]
+    fn add_terms(&mut self, c: &[i32; 3], f: i32) {
+        if f <= 1 << 16 {
+            for (a, c) in self.iter_mut().zip(c) {
+                *a += ((*c as u32).wrapping_mul(f as u32) >> 16) as i32;
+            }
+        } else {
+            for (a, c) in self.iter_mut().zip(c) {
+                *a += (mul_wide(*c, f) >> 16) as i32;
+            }
+        }
+    }
+    #[inline(always)]
+    fn clamped(self) -> [i32; 3] {
+        self.map(|c| c.clamp(0, 1 << 16))
     }
 }
 
@@ -362,42 +418,40 @@ impl<S: Specular> LightingSetup<S> {
     /// most 8 lights cannot overflow.
     #[inline]
     pub fn shade(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        // Not in the smallest images (`small-flash`: the micro:bit's 256 KiB),
+        // which keep one copy: the same bits either way.
+        if !cfg!(feature = "small-flash") && self.unit {
+            return self.shade_directional::<[i32; 3]>(p, n);
+        }
         // Inlined into the caller, so a diffuse-only directional scene makes one
         // call, as a hand-written loop does.
         if !S::enabled() && self.directional >= self.lights.len() {
             return self.diffuse_directional(n);
         }
-        // Not in the smallest images (`small-flash`: the micro:bit's 256 KiB),
-        // which keep one copy: the same bits either way.
-        if !cfg!(feature = "small-flash") && self.unit {
-            return self.shade_unit(p, n);
-        }
         self.shade_any(p, n)
     }
 
-    /// [`Self::shade_any`] for directional lights whose colour products lie in
-    /// [0, 1) and a base in [0, 16] (Q16.16): the same terms summed in `i32`, the
-    /// colour products through [`add_colour_terms`]. A factor is below 2²² (specular:
-    /// `s` ≤ 2³⁶; diffuse: `N·L` saturates at 2³¹, so `N·L >> 14` < 2¹⁷), so the
-    /// sum of the base and at most 8 lights' three terms (ambient below 2¹⁶,
-    /// diffuse below 2¹⁷, specular below 2²²) stays below 2²⁶.
+    /// [`Self::shade_any`] for directional lights only, summed in `A`: `i32` for
+    /// lights whose colour products lie in [0, 1) and a base in [0, 16] (Q16.16;
+    /// `unit`), `i64` for any. In `i32` a factor is below 2²² (specular: `s` ≤
+    /// 2³⁶; diffuse: `N·L` saturates at 2³¹, so `N·L >> 14` < 2¹⁷), so the sum of
+    /// the base and at most 8 lights' three terms (ambient below 2¹⁶, diffuse
+    /// below 2¹⁷, specular below 2²²) stays below 2²⁶.
     #[inline(always)]
-    fn shade_unit(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
-        let mut acc = self.base.map(|b| b as i32);
+    fn shade_directional<A: Sums>(&self, p: [i32; 3], n: [i32; 3]) -> [i32; 3] {
+        let mut acc = A::base(&self.base);
         let view = self.view(p);
         for light in &self.lights {
             let EyeKind::Directional { l, h } = light.kind else {
                 continue;
             };
-            for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                *c += *amb;
-            }
+            acc.add(&light.amb);
             let nl = dot_q30(n, l);
             if nl <= 0 {
                 continue;
             }
-            let f = nl >> 14;
-            add_colour_terms(&mut acc, &light.dif, f);
+            // As in `add_light` with attenuation exactly 1.
+            acc.add_terms(&light.dif, nl >> 14);
             if !S::ENABLED || !light.has_spec {
                 continue;
             }
@@ -408,10 +462,12 @@ impl<S: Specular> LightingSetup<S> {
                 continue;
             }
             // s ≤ 2^36: f < 2^22.
-            let f = (S::eval_wide(&self.spec, nh.min(ONE_Q30)) >> 14) as i32;
-            add_colour_terms(&mut acc, &light.spec, f);
+            acc.add_terms(
+                &light.spec,
+                (S::eval_wide(&self.spec, nh.min(ONE_Q30)) >> 14) as i32,
+            );
         }
-        acc.map(|c| c.clamp(0, 1 << 16))
+        acc.clamped()
     }
 
     /// The unit vector towards the viewer at eye-space `p` for the half vector:
@@ -462,29 +518,11 @@ impl<S: Specular> LightingSetup<S> {
     }
 
     /// [`Self::shade`] without a specular term and with directional lights only
-    /// (the same sums in the same order): a loop with no call and no register
-    /// to save, what a hand-written diffuse path does.
+    /// (the same sums in the same order, in `i64`): out of line, a loop with no
+    /// call and no register to save, what a hand-written diffuse path does.
     #[inline(never)]
     fn diffuse_directional(&self, n: [i32; 3]) -> [i32; 3] {
-        let mut acc = self.base;
-        for light in &self.lights {
-            let EyeKind::Directional { l, .. } = light.kind else {
-                continue;
-            };
-            for (c, amb) in acc.iter_mut().zip(light.amb.iter()) {
-                *c += *amb as i64;
-            }
-            let nl = dot_q30(n, l);
-            if nl <= 0 {
-                continue;
-            }
-            // As in `add_light` with attenuation exactly 1.
-            let f = nl >> 14;
-            for (c, dif) in acc.iter_mut().zip(light.dif.iter()) {
-                *c += mul_wide(*dif, f) >> 16;
-            }
-        }
-        acc.map(|c| c.clamp(0, 1 << 16) as i32)
+        self.shade_directional::<[i64; 3]>([0; 3], n)
     }
 
     /// Adds one light's ambient, diffuse and specular terms to `acc`: unit normal
@@ -1403,7 +1441,7 @@ mod tests {
     }
 
     /// Random directional lights and materials with colour products below 1: the
-    /// 32-bit sums ([`LightingSetup::shade_unit`]) give the `i64` sums' bits
+    /// 32-bit sums ([`LightingSetup::shade_directional`]) give the `i64` sums' bits
     /// ([`LightingSetup::shade_any`]) for every specular model (the
     /// energy-conserving one reaches factors above 2¹⁶, as do normals longer than
     /// 1), with and without a local viewer; a product of exactly 1 keeps the `i64`
@@ -1454,11 +1492,15 @@ mod tests {
                         continue;
                     };
                     let p = [0; 3].map(|_| next(seed, 1 << 22) as i32 - (1 << 21));
-                    assert_eq!(setup.shade_unit(p, n), setup.shade_any(p, n), "{n:?} {p:?}");
+                    assert_eq!(
+                        setup.shade_directional::<[i32; 3]>(p, n),
+                        setup.shade_any(p, n),
+                        "{n:?} {p:?}"
+                    );
                     // A normal 1.5 long: diffuse factors above 2^16 as well.
                     let long = n.map(|c| c + c / 2);
                     assert_eq!(
-                        setup.shade_unit(p, long),
+                        setup.shade_directional::<[i32; 3]>(p, long),
                         setup.shade_any(p, long),
                         "{long:?}"
                     );
@@ -1511,7 +1553,7 @@ mod tests {
         for &c in cs.iter().filter(|c| (0..1 << 16).contains(*c)) {
             for &f in &fs {
                 let mut acc = [7, 0, -3];
-                add_colour_terms(&mut acc, &[c, c, c], f);
+                acc.add_terms(&[c, c, c], f);
                 let t = (mul_wide(c, f) >> 16) as i32;
                 assert_eq!(acc, [7 + t, t, t - 3], "{c} {f}");
             }
@@ -1624,14 +1666,16 @@ mod tests {
     #[test]
     fn diffuse_directional_path_gives_the_general_sums() {
         // Without a specular term and with directional lights only, `shade` takes
-        // its own loop; the general loop (reached here through `BlinnExact` with no
-        // specular colour) must give the same colours, with and without ambient
-        // parts, facing and turned away from the lights.
-        let sun = |x: i32, a: i32| Light {
+        // the directional loop (in i32 sums where the colour products are below 1,
+        // in i64 otherwise); the general loop (reached here through `BlinnExact`
+        // with no specular colour) must give the same colours, with and without
+        // ambient parts, facing and turned away from the lights, with colour
+        // products below and above 1.
+        let sun = |x: i32, a: i32, d: i32| Light {
             ambient: [q(a, 10); 3],
             ..Light::directional(
                 [q(x, 4), Q16_16::ONE, Q16_16::ONE],
-                [q(3, 4), q(1, 2), q(1, 4)],
+                [q(3 * d, 4), q(d, 2), q(d, 4)],
                 [Q16_16::ZERO; 3],
             )
         };
@@ -1639,10 +1683,12 @@ mod tests {
             emission: [q(1, 20); 3],
             ..Material::default()
         };
-        for lights in [
-            &[sun(-1, 0)][..],
-            &[sun(-1, 1), sun(3, 2), sun(0, 0)][..],
-            &[][..],
+        for (lights, unit) in [
+            (&[sun(-1, 0, 1)][..], true),
+            (&[sun(-1, 1, 1), sun(3, 2, 1), sun(0, 0, 1)][..], true),
+            (&[][..], true),
+            (&[sun(-1, 1, 3), sun(3, 2, 1)][..], false),
+            (&[sun(2, 60, 1)][..], false),
         ] {
             let d = LightingSetup::<crate::effects::NoSpecular>::new(
                 lights,
@@ -1651,6 +1697,7 @@ mod tests {
                 [q(1, 5); 3],
                 true,
             );
+            assert_eq!(d.unit, unit);
             let g =
                 LightingSetup::<BlinnExact>::new(lights, &Mat4::IDENTITY, &mat, [q(1, 5); 3], true);
             for k in 0..64 {
@@ -1658,7 +1705,12 @@ mod tests {
                     normalize_to_q30([(k % 8 - 4) as i64, (k / 8 - 4) as i64, 3 - k as i64 % 5])
                         .expect("non-zero");
                 let p = [1 << 14, -(1 << 15), -(3 << 16)];
-                assert_eq!(d.shade(p, n), g.shade(p, n), "normal {n:?}");
+                let want = g.shade_any(p, n);
+                assert_eq!(d.shade(p, n), want, "normal {n:?}");
+                assert_eq!(d.diffuse_directional(n), want, "normal {n:?}");
+                if unit {
+                    assert_eq!(d.shade_directional::<[i32; 3]>(p, n), want, "normal {n:?}");
+                }
             }
         }
     }

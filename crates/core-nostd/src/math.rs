@@ -1172,9 +1172,15 @@ pub enum PositionShift {
 /// shifted left, exactly) or 19 bits (larger ones; beyond ±8 units rounded,
 /// `p = ⌊(q + 2ᵇ⁻¹)/2ᵇ⌋`), so `|p| ≤ 2ᴾ`, and the entries `M` and `t` are the
 /// model-view-projection matrix in the frame's clip units
-/// ([`crate::geometry::Projector`]), scaled to match and rounded (relative error
-/// below 2⁻²⁵ of the row's bound). The frame's scale keeps every `|C|` of the mesh
-/// below 2³⁰ (w below 2³⁰ over the guard exponent).
+/// ([`crate::geometry::Projector`]), scaled to match and rounded to integers. The
+/// frame's scale keeps every `|C|` of the mesh below 2³⁰ (w below 2³⁰ over the
+/// guard exponent).
+///
+/// Error: an entry's rounding (½) moves a row by at most `½·|p|/2ˢ`, so the three
+/// move it by at most 3·2^(P−1−s) = 3·2^(2P−31) clip units (24 for P = 17, 384
+/// for P = 19), `t`'s rounding and the floor by 1.5 more. A mesh rounded to 19
+/// bits also errs by half a position step (2ᵇ⁻¹ raw units) in each coordinate.
+/// (What this is on screen: [`crate::geometry::Projector`].)
 ///
 /// ARMv6-M splits each entry as `M = h·2ˢ + l` with `l` in [−2ˢ⁻¹, 2ˢ⁻¹): then
 /// `⌊Σ M·p/2ˢ⌋ = Σ h·p + ⌊Σ l·p/2ˢ⌋` exactly, `|Σ l·p|` ≤ 3·2ˢ⁻¹⁺ᴾ = 3·2²⁹ and
@@ -2045,6 +2051,61 @@ mod tests {
             }
         }
         assert!(tested > 3000, "{tested}");
+    }
+
+    /// The rows against the exact product of the Q32.32 matrix and the Q16.16
+    /// position in clip units: within the bound the type states, 3·2^(2P−31) + 1.5
+    /// clip units (the entries' and `t`'s rounding, the floor), plus for a mesh
+    /// rounded to 19 bits half a position step times the row's entries; and the
+    /// bound is reached to within a factor of two (it is not vacuous).
+    #[test]
+    fn vertex_transform_rows_within_the_stated_bound() {
+        let mut seed = 0x0f1e_2d3c_4b5a_6978u64;
+        let mut worst = 0f64;
+        for k in 0..3000 {
+            let bound = ((xorshift(&mut seed) >> (34 + k % 30)) as i32 + 1).min((1 << 30) - 1);
+            let mut m = Mat4 { m: [[0; 4]; 4] };
+            for row in m.m.iter_mut() {
+                for e in row.iter_mut() {
+                    *e = (xorshift(&mut seed) as i64) >> (20 + xorshift(&mut seed) % 20);
+                }
+            }
+            let Some((t, scale)) = (-40..60)
+                .rev()
+                .find_map(|sc| VertexTransform::new(&m, sc, bound, 30, None).map(|t| (t, sc)))
+            else {
+                continue;
+            };
+            let p_bits = 30 - t.s as i32;
+            for _ in 0..100 {
+                let q: Vec3 = core::array::from_fn(|_| {
+                    let r = xorshift(&mut seed);
+                    Q16_16::from_bits(((r % (2 * bound as u64 + 1)) as i64 - bound as i64) as i32)
+                });
+                for (r, got) in t.rows(&q).into_iter().enumerate() {
+                    // Σ m·q·2^(scale − 48) + m₃·2^(scale − 32), in f64 from exact i128 sums.
+                    let sum: i128 = (0..3)
+                        .map(|i| m.m[r][i] as i128 * q[i].to_bits() as i128)
+                        .sum::<i128>()
+                        + ((m.m[r][3] as i128) << 16);
+                    let exact = sum as f64 * 2f64.powi(scale - 48);
+                    let rounding = if t.b > 0 {
+                        (0..3).map(|i| t.m[r][i].unsigned_abs() as f64).sum::<f64>()
+                            / 2f64.powi(t.s as i32 + 1)
+                    } else {
+                        0.0
+                    };
+                    let bound = 3.0 * 2f64.powi(2 * p_bits - 31) + 1.5 + rounding;
+                    let err = (got as f64 - exact).abs();
+                    assert!(err <= bound, "row {r}: {err} > {bound}");
+                    if t.b == 0 {
+                        worst = worst.max(err / bound);
+                    }
+                }
+            }
+        }
+        std::println!("worst error / bound: {worst}");
+        assert!(worst > 0.5, "the bound is loose: {worst}");
     }
 
     /// The length within 2^-27 of the exact one; zero for the zero vector.
