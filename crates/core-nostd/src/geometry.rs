@@ -441,14 +441,14 @@ impl Axis {
 /// vertex stage's x and y stay below 2³⁰ and w below `2^w_bits` = 2³⁰⁻ᵍ, `g` the
 /// larger guard exponent of the two axes (2ᵍ bounds |x/w| and |y/w| inside the
 /// guard band). The transform's rounding ([`VertexTransform`](crate::math::VertexTransform):
-/// integer entries) moves x, y and w by up to 3·2^(2P−31) + 1.5 clip units, `P`
-/// the position bits (17 for a mesh within ±2 units: 25.5 units; 19 beyond: 385.5),
-/// and a clip unit of x or y is `8·width/w` or `8·height/w` subpixels on screen
-/// (w in clip units): a sizeable part of a subpixel for a large mesh near the eye. On the tessellated
-/// ground plane of the effects table (`ground-fine`, 40 units across) the screen
-/// positions differ from the f64 projection's by up to 0.1 subpixel at the far end
-/// and 0.47 near the eye, and 53 of its 406 visible vertices round to another
-/// subpixel than the exact position does.
+/// integer entries) moves x, y and w by up to 3·2^(P−1−s) + 1.5 clip units, `P`
+/// the position bits and `s` the entries' fraction bits (P = 17, s = 13 for a mesh
+/// within ±2 units: 25.5 units; P = 19, s = 18 beyond: 4.5), and a clip unit of x
+/// or y is `8·width/w` or `8·height/w` subpixels on screen (w in clip units). On
+/// the tessellated ground plane of the effects table (`ground-fine`, 40 units
+/// across) the screen positions differ from the f64 projection's by up to 0.002
+/// subpixel at the far end and 0.02 near the eye, and each of its 406 visible
+/// vertices rounds to the subpixel the exact position does.
 ///
 /// Under a perspective projection w is the eye-space depth in clip units, the near
 /// and far planes are two thresholds on w (exactly where the clipper's z from w,

@@ -1141,6 +1141,23 @@ impl ZFromW {
     }
 }
 
+/// `$t.$f::<S, SH>($q)` for the form of the [`VertexTransform`] `$t`.
+macro_rules! by_form {
+    ($t:expr, $f:ident, $q:expr) => {
+        match ($t.s, $t.shift) {
+            (13, PositionShift::None) => $t.$f::<13, 0>($q),
+            (13, _) => $t.$f::<13, 1>($q),
+            (_, PositionShift::Right) => $t.$f::<18, 2>($q),
+            _ => $t.$f::<18, 1>($q),
+        }
+    };
+}
+
+/// Where ARMv6-M splits the low part of a [`VertexTransform`] entry for 19-bit
+/// positions (see the type).
+#[cfg(any(test, fixshade_v6m))]
+const LOW_SPLIT: u32 = 9;
+
 /// How [`VertexTransform`] takes a mesh's positions before the products.
 ///
 /// ```
@@ -1167,25 +1184,30 @@ pub enum PositionShift {
 /// (x, y, z, w) in `i32` from Q16.16 positions, with 32-bit products only on
 /// ARMv6-M and three `SMULL`/`SMLAL` per row on ARMv7-M, the same bits on both.
 ///
-/// Each row is `C = ⌊Σᵢ Mᵢ·pᵢ / 2ˢ⌋ + t`, `s = 30 − P` (13 or 11): the positions
-/// `p` are the mesh's brought to `P` = 17 bits (meshes within ±2 units; smaller ones
-/// shifted left, exactly) or 19 bits (larger ones; beyond ±8 units rounded,
+/// Each row is `C = ⌊Σᵢ Mᵢ·pᵢ / 2ˢ⌋ + t`: the positions `p` are the mesh's
+/// brought to `P` = 17 bits (meshes within ±2 units; smaller ones shifted left,
+/// exactly) or 19 bits (larger ones; beyond ±8 units rounded,
 /// `p = ⌊(q + 2ᵇ⁻¹)/2ᵇ⌋`), so `|p| ≤ 2ᴾ`, and the entries `M` and `t` are the
 /// model-view-projection matrix in the frame's clip units
 /// ([`crate::geometry::Projector`]), scaled to match and rounded to integers. The
 /// frame's scale keeps every `|C|` of the mesh below 2³⁰ (w below 2³⁰ over the
-/// guard exponent).
+/// guard exponent), so an entry lies below 2^(30 + s − P + 1). The entries carry
+/// `s` = 13 fraction bits for `P` = 17 and 18 for `P` = 19 (the most that keeps
+/// them in `i32`).
 ///
 /// Error: an entry's rounding (½) moves a row by at most `½·|p|/2ˢ`, so the three
-/// move it by at most 3·2^(P−1−s) = 3·2^(2P−31) clip units (24 for P = 17, 384
-/// for P = 19), `t`'s rounding and the floor by 1.5 more. A mesh rounded to 19
-/// bits also errs by half a position step (2ᵇ⁻¹ raw units) in each coordinate.
+/// move it by at most 3·2^(P−1−s) clip units (24 for P = 17, 3 for P = 19), `t`'s
+/// rounding and the floor by 1.5 more. A mesh rounded to 19 bits also errs by
+/// half a position step (2ᵇ⁻¹ raw units) in each coordinate.
 /// (What this is on screen: [`crate::geometry::Projector`].)
 ///
 /// ARMv6-M splits each entry as `M = h·2ˢ + l` with `l` in [−2ˢ⁻¹, 2ˢ⁻¹): then
-/// `⌊Σ M·p/2ˢ⌋ = Σ h·p + ⌊Σ l·p/2ˢ⌋` exactly, `|Σ l·p|` ≤ 3·2ˢ⁻¹⁺ᴾ = 3·2²⁹ and
-/// `|Σ h·p|` ≤ |C| + |t| + 3·2ᴾ⁻¹ fit `i32`. ARMv7-M sums the exact 64-bit products
-/// (each below 2⁶¹) and takes the 32 bits above bit `s`.
+/// `⌊Σ M·p/2ˢ⌋ = Σ h·p + ⌊Σ l·p/2ˢ⌋` exactly, and `|Σ h·p|` ≤ |C| + |t| + 3·2ᴾ⁻¹
+/// fits `i32`. For `P` = 17, `|Σ l·p|` ≤ 3·2ˢ⁻¹⁺ᴾ = 3·2²⁹. For `P` = 19 that
+/// would be 3·2³⁵: `l` is split again as the row is computed, `l = l'·2⁹ + l''`
+/// with `l''` in [0, 2⁹), and `⌊Σ l·p/2ˢ⌋ = ⌊(Σ l'·p + ⌊Σ l''·p/2⁹⌋)/2ˢ⁻⁹⌋`,
+/// where `|Σ l'·p|` ≤ 3·2²⁷ and `|Σ l''·p|` < 3·2²⁸. ARMv7-M sums the exact
+/// 64-bit products (each below 2⁵⁰) and takes the 32 bits above bit `s`.
 ///
 /// For a perspective projection the vertex stage needs only x, y and w; the
 /// clipper's z comes from w ([`ZFromW`]).
@@ -1197,7 +1219,7 @@ pub enum PositionShift {
 /// let t = VertexTransform::new(&Mat4::IDENTITY, 20, 1 << 16, 30, None).unwrap();
 /// let (s, _) = t.form();
 /// let p = [Q16_16::from_ratio(1, 2), Q16_16::ZERO, Q16_16::ZERO];
-/// let xyw = if s == 13 { t.xyw::<13, 1>(&p) } else { t.xyw::<11, 1>(&p) };
+/// let xyw = if s == 13 { t.xyw::<13, 1>(&p) } else { t.xyw::<18, 1>(&p) };
 /// assert_eq!(xyw, [1 << 19, 0, 1 << 20]);
 /// ```
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -1237,7 +1259,7 @@ impl VertexTransform {
             (_, 0) => PositionShift::Left,
             _ => PositionShift::Right,
         };
-        let s = 30 - p;
+        let s = if p == 17 { 13 } else { 18 };
         // M = m·2^(scale + b − a − 16 + s − 32) (m in Q32.32, positions Q16.16
         // shifted by a or b), t = m·2^(scale − 32); rounded to nearest.
         let scaled = |v: i64, e: i32| -> Option<i32> {
@@ -1282,6 +1304,7 @@ impl VertexTransform {
         let mut lo = [[0i32; 3]; 4];
         for r in 0..4 {
             for i in 0..3 {
+                // |l| ≤ 2^(s−1).
                 lo[r][i] = (m[r][i] as i64 - ((hi[r][i] as i64) << s)) as i32;
             }
         }
@@ -1299,7 +1322,7 @@ impl VertexTransform {
         })
     }
 
-    /// The row shift `s` (13 or 11) and how the positions are taken: the
+    /// The row shift `s` (13 or 18) and how the positions are taken: the
     /// monomorphisation [`Self::xyw`] and [`Self::xyzw`] need.
     #[inline(always)]
     pub fn form(&self) -> (u32, PositionShift) {
@@ -1321,12 +1344,25 @@ impl VertexTransform {
     fn row<const S: u32>(&self, r: usize, p: &[i32; 3]) -> i32 {
         #[cfg(fixshade_v6m)]
         {
+            // The 19-bit rows' three-part form out of line in the smallest images
+            // (`small-flash`: one copy in place of one in every row of every
+            // projection loop; the micro:bit's 256 KiB).
+            if S != 13 && cfg!(feature = "small-flash") {
+                return self.row_split_outlined::<S>(r, p);
+            }
             self.row_split::<S>(r, p)
         }
         #[cfg(not(fixshade_v6m))]
         {
             self.row_wide::<S>(r, p)
         }
+    }
+
+    /// [`Self::row_split`], not inlined.
+    #[cfg(fixshade_v6m)]
+    #[inline(never)]
+    fn row_split_outlined<const S: u32>(&self, r: usize, p: &[i32; 3]) -> i32 {
+        self.row_split::<S>(r, p)
     }
 
     /// [`Self::row`] from the exact 64-bit sum: `⌊sum/2ˢ⌋` (the result fits `i32`,
@@ -1345,8 +1381,18 @@ impl VertexTransform {
     fn row_split<const S: u32>(&self, r: usize, p: &[i32; 3]) -> i32 {
         let (h, l) = (&self.hi[r], &self.lo[r]);
         let high = h[0] * p[0] + h[1] * p[1] + h[2] * p[2];
-        let low = l[0] * p[0] + l[1] * p[1] + l[2] * p[2];
-        high + (low >> S) + self.t[r]
+        if S == 13 {
+            let low = l[0] * p[0] + l[1] * p[1] + l[2] * p[2];
+            high + (low >> S) + self.t[r]
+        } else {
+            let (a, b) = (
+                l.map(|v| v >> LOW_SPLIT),
+                l.map(|v| v & ((1 << LOW_SPLIT) - 1)),
+            );
+            let low = a[0] * p[0] + a[1] * p[1] + a[2] * p[2];
+            let fine = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+            high + ((low + (fine >> LOW_SPLIT)) >> (S - LOW_SPLIT)) + self.t[r]
+        }
     }
 
     /// x, y and w of a mesh position, for `(S, SH)` matching [`Self::form`] (`SH`: 0
@@ -1375,14 +1421,24 @@ impl VertexTransform {
         ]
     }
 
-    /// All four rows, any form.
-    fn rows(&self, q: &Vec3) -> [i32; 4] {
-        match (self.s, self.shift) {
-            (13, PositionShift::None) => self.xyzw::<13, 0>(q),
-            (13, _) => self.xyzw::<13, 1>(q),
-            (_, PositionShift::Right) => self.xyzw::<11, 2>(q),
-            _ => self.xyzw::<11, 1>(q),
-        }
+    /// w of a mesh position, as [`Self::xyw`].
+    #[inline(always)]
+    fn w_of<const S: u32, const SH: u8>(&self, q: &Vec3) -> i32 {
+        debug_assert_eq!(S, self.s);
+        self.row::<S>(3, &self.input::<SH>(q))
+    }
+
+    /// The clip-space w of a mesh position (the vertex stage's, as
+    /// [`Self::transform`] gives it).
+    ///
+    /// ```
+    /// use fixshade::fixed::Q16_16;
+    /// use fixshade::math::{Mat4, VertexTransform};
+    /// let t = VertexTransform::new(&Mat4::IDENTITY, 20, 1 << 16, 30, None).unwrap();
+    /// assert_eq!(t.w(&[Q16_16::from_int(1), Q16_16::ZERO, Q16_16::ZERO]), 1 << 20);
+    /// ```
+    pub fn w(&self, q: &Vec3) -> i32 {
+        by_form!(self, w_of, q)
     }
 
     /// The clip coordinates of a mesh position, as the clipper takes them: the
@@ -1396,23 +1452,16 @@ impl VertexTransform {
     /// let p = [Q16_16::from_int(1), Q16_16::ZERO, Q16_16::from_ratio(-1, 2)];
     /// assert_eq!(t.transform(&p), [1 << 20, 0, -(1 << 19), 1 << 20]);
     /// ```
+    #[inline(never)]
     pub fn transform(&self, q: &Vec3) -> [i64; 4] {
-        // A perspective projection's third row may not fit: z comes from w.
-        let [x, y, z, w] = match self.persp {
-            Some(_) => {
-                let mut t = *self;
-                t.m[2] = [0; 3];
-                t.hi[2] = [0; 3];
-                t.lo[2] = [0; 3];
-                t.rows(q)
+        match &self.persp {
+            // A perspective projection's third row may not fit: z comes from w.
+            Some(f) => {
+                let [x, y, w] = by_form!(self, xyw, q);
+                [x as i64, y as i64, f.z(w), w as i64]
             }
-            None => self.rows(q),
-        };
-        let z = match &self.persp {
-            Some(f) => f.z(w),
-            None => z as i64,
-        };
-        [x as i64, y as i64, z, w as i64]
+            None => by_form!(self, xyzw, q).map(|c| c as i64),
+        }
     }
 }
 
@@ -1794,6 +1843,7 @@ pub(crate) fn packed_at(c: u64, dc: u64, x0: i32) -> u64 {
 }
 
 #[cfg(test)]
+#[allow(clippy::float_arithmetic)] // f64 reference figures, host only
 mod tests {
     extern crate std;
     use super::*;
@@ -2040,13 +2090,13 @@ mod tests {
                     let (split, wide) = if t.s == 13 {
                         (t.row_split::<13>(r, &p), t.row_wide::<13>(r, &p))
                     } else {
-                        (t.row_split::<11>(r, &p), t.row_wide::<11>(r, &p))
+                        (t.row_split::<18>(r, &p), t.row_wide::<18>(r, &p))
                     };
                     assert_eq!(split, wide, "bound {bound} row {r}");
                     // And both are the exact floor.
                     let exact: i128 = (0..3).map(|i| t.m[r][i] as i128 * p[i] as i128).sum();
                     assert_eq!(wide as i128, (exact >> t.s) + t.t[r] as i128);
-                    assert_eq!(t.rows(&q)[r], wide);
+                    assert_eq!(by_form!(t, xyzw, &q)[r], wide);
                 }
             }
         }
@@ -2054,14 +2104,15 @@ mod tests {
     }
 
     /// The rows against the exact product of the Q32.32 matrix and the Q16.16
-    /// position in clip units: within the bound the type states, 3·2^(2P−31) + 1.5
+    /// position in clip units: within the bound the type states, 3·2^(P−1−s) + 1.5
     /// clip units (the entries' and `t`'s rounding, the floor), plus for a mesh
     /// rounded to 19 bits half a position step times the row's entries; and the
-    /// bound is reached to within a factor of two (it is not vacuous).
+    /// bound is reached to within a factor of two for both position widths (it is
+    /// not vacuous).
     #[test]
     fn vertex_transform_rows_within_the_stated_bound() {
         let mut seed = 0x0f1e_2d3c_4b5a_6978u64;
-        let mut worst = 0f64;
+        let mut worst = [0f64; 2]; // P = 17, P = 19
         for k in 0..3000 {
             let bound = ((xorshift(&mut seed) >> (34 + k % 30)) as i32 + 1).min((1 << 30) - 1);
             let mut m = Mat4 { m: [[0; 4]; 4] };
@@ -2076,13 +2127,13 @@ mod tests {
             else {
                 continue;
             };
-            let p_bits = 30 - t.s as i32;
+            let p_bits = if t.s == 13 { 17 } else { 19 };
             for _ in 0..100 {
                 let q: Vec3 = core::array::from_fn(|_| {
                     let r = xorshift(&mut seed);
                     Q16_16::from_bits(((r % (2 * bound as u64 + 1)) as i64 - bound as i64) as i32)
                 });
-                for (r, got) in t.rows(&q).into_iter().enumerate() {
+                for (r, got) in by_form!(t, xyzw, &q).into_iter().enumerate() {
                     // Σ m·q·2^(scale − 48) + m₃·2^(scale − 32), in f64 from exact i128 sums.
                     let sum: i128 = (0..3)
                         .map(|i| m.m[r][i] as i128 * q[i].to_bits() as i128)
@@ -2095,17 +2146,21 @@ mod tests {
                     } else {
                         0.0
                     };
-                    let bound = 3.0 * 2f64.powi(2 * p_bits - 31) + 1.5 + rounding;
+                    let bound = 3.0 * 2f64.powi(p_bits - 1 - t.s as i32) + 1.5 + rounding;
                     let err = (got as f64 - exact).abs();
                     assert!(err <= bound, "row {r}: {err} > {bound}");
                     if t.b == 0 {
-                        worst = worst.max(err / bound);
+                        let w = &mut worst[(p_bits == 19) as usize];
+                        *w = w.max(err / bound);
                     }
                 }
             }
         }
-        std::println!("worst error / bound: {worst}");
-        assert!(worst > 0.5, "the bound is loose: {worst}");
+        std::println!("worst error / bound, P = 17 and 19: {worst:?}");
+        assert!(
+            worst.iter().all(|w| *w > 0.5),
+            "the bound is loose: {worst:?}"
+        );
     }
 
     /// The length within 2^-27 of the exact one; zero for the zero vector.

@@ -822,11 +822,11 @@ impl<'s, 'a, 'c, P: PixelFormat, Sp: Specular> Frame<'s, 'a, 'c, P, Sp> {
             let outside = match (map.perspective_depth(), clip.form()) {
                 (Some(d), (13, Sh::None)) => project_perspective::<13, 0>(out, pos, clip, map, d),
                 (Some(d), (13, _)) => project_perspective::<13, 1>(out, pos, clip, map, d),
-                (Some(d), (_, Sh::Right)) => project_perspective::<11, 2>(out, pos, clip, map, d),
-                (Some(d), _) => project_perspective::<11, 1>(out, pos, clip, map, d),
+                (Some(d), (_, Sh::Right)) => project_perspective::<18, 2>(out, pos, clip, map, d),
+                (Some(d), _) => project_perspective::<18, 1>(out, pos, clip, map, d),
                 (None, (13, _)) => project_general::<13, 1>(out, pos, clip, map),
-                (None, (_, Sh::Right)) => project_general::<11, 2>(out, pos, clip, map),
-                (None, _) => project_general::<11, 1>(out, pos, clip, map),
+                (None, (_, Sh::Right)) => project_general::<18, 2>(out, pos, clip, map),
+                (None, _) => project_general::<18, 1>(out, pos, clip, map),
             };
             // 2. Cull before lighting: only vertices of triangles that may be drawn
             //    are lit (the flags are read only if some vertex is outside).

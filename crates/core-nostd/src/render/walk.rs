@@ -132,9 +132,7 @@ impl Triangle<'_, '_> {
     #[inline(always)]
     pub(super) fn clip_w(&self) -> [i64; 3] {
         let pos = self.obj.mesh.positions();
-        arrays::map(self.idx, |i| {
-            self.prep.clip().transform(&pos[i as usize])[3]
-        })
+        arrays::map(self.idx, |i| self.prep.clip().w(&pos[i as usize]) as i64)
     }
 
     /// The vertices for the clipper: clip-space positions, recomputed, and the
