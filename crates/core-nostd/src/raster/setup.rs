@@ -553,11 +553,23 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     } else {
         (mag as u32) << (31 - bits)
     };
-    let r = recip_q61(mant) as i32; // 2^61/m: 1/|det| = r·2^−(30 + bits)
-                                    // 16·|d| < 2^21 and r < 2^31: each product below 2^52, the largest at least
-                                    // 16·2^30 (some |d| ≥ 1). `hmax` bounds the high words' magnitudes (xor with
-                                    // the sign: |v| ≤ (hmax + 1)·2^32), so with t = bits(hmax) + 2 every |v| >> t
-                                    // is at most 2^30 and the largest at least 2^29; t is in [4, 22].
+    // 2^61/m: 1/|det| = r·2^−(30 + bits).
+    let r = recip_q61(mant) as i32;
+    // 16·|d| < 2^21 and r < 2^31: each product below 2^52, the largest at least
+    // 16·2^30 (some |d| ≥ 1). `hmax` bounds the high words' magnitudes (xor with
+    // the sign: |v| ≤ (hmax + 1)·2^32), so with t = bits(hmax) + 2 every |v| >> t
+    // is at most 2^30 and the largest at least 2^29; t is in [4, 22].
+    // An image built for size calls the array builder here and copies its arrays
+    // through memory, for every triangle: there `p` and `bb` are written out (the
+    // other images compile the builder to the same code as before).
+    #[cfg(feature = "small-flash")]
+    let p = [
+        mul_wide(16 * dy2, r),
+        mul_wide(-16 * dy1, r),
+        mul_wide(-16 * dx2, r),
+        mul_wide(16 * dx1, r),
+    ];
+    #[cfg(not(feature = "small-flash"))]
     let p = arrays::map([16 * dy2, -16 * dy1, -16 * dx2, 16 * dx1], |d| {
         mul_wide(d, r)
     });
@@ -566,6 +578,19 @@ fn lattice_into<L: LatticeOut>(v: [&ScreenVertex; 3]) -> Option<L> {
     });
     let sh_t = 34 - leading_zeros(hmax);
     let round_t = RoundShift::new(sh_t);
+    #[cfg(feature = "small-flash")]
+    let bb = {
+        let signed = |v: i64| {
+            let q = round_t.apply(v);
+            if neg {
+                -q
+            } else {
+                q
+            }
+        };
+        [signed(p[0]), signed(p[1]), signed(p[2]), signed(p[3])]
+    };
+    #[cfg(not(feature = "small-flash"))]
     let bb = arrays::map(p, |v| {
         let q = round_t.apply(v);
         if neg {
